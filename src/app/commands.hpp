@@ -1,0 +1,14 @@
+// Subcommands of the nmdp executable. Each takes the arguments after its name and returns the
+// process exit code; bad input is reported by the caller from the InputError it throws.
+#pragma once
+#include <string>
+#include <vector>
+
+namespace nmdp::app {
+
+using Args = std::vector<std::string>;
+
+int runInspect(const Args& args);
+extern const char* const kInspectHelp;
+
+}  // namespace nmdp::app

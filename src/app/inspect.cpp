@@ -1,0 +1,79 @@
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.hpp"
+#include "io/input_error.hpp"
+#include "multibody/urdf_loader.hpp"
+
+namespace nmdp::app {
+
+const char* const kInspectHelp =
+    "usage: nmdp inspect ROBOT.urdf [--base floating|planar|fixed] [--lock JOINT=VALUE ...]\n"
+    "                    [--armature JOINT=VALUE ...]\n\n"
+    "Loads a URDF and prints a JSON summary: dof, joint_names (one per generalized coordinate,\n"
+    "base coordinates first), total_mass, links (name, mass) and feet (link, offset, radius).\n\n"
+    "  --base TYPE         floating (default: x, y, z and three angles), planar (x, z, pitch) or fixed\n"
+    "  --lock JOINT=VALUE  weld a movable joint at VALUE (rad or m); repeatable\n"
+    "  --armature J=VALUE  rotor inertia added to joint J; J may be * for every actuated joint\n";
+
+namespace {
+std::pair<std::string, double> parseAssignment(const std::string& option, const std::string& text) {
+  const auto eq = text.find('=');
+  if (eq == std::string::npos || eq == 0)
+    throw InputError(option + " expects JOINT=VALUE, got '" + text + "'");
+  const std::string name = text.substr(0, eq);
+  const std::string value = text.substr(eq + 1);
+  try {
+    size_t used = 0;
+    const double v = std::stod(value, &used);
+    if (used != value.size()) throw std::invalid_argument(value);
+    return {name, v};
+  } catch (const std::exception&) {
+    throw InputError(option + " " + text + ": '" + value + "' is not a number");
+  }
+}
+}  // namespace
+
+int runInspect(const Args& args) {
+  std::string path;
+  UrdfOptions options;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto next = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw InputError(a + " needs a value (see nmdp inspect --help)");
+      return args[++i];
+    };
+    if (a == "--base") {
+      options.base = parseBaseType(next());
+    } else if (a == "--lock") {
+      auto [name, value] = parseAssignment(a, next());
+      options.locked_joints[name] = value;
+    } else if (a == "--armature") {
+      auto [name, value] = parseAssignment(a, next());
+      if (name == "*") options.default_armature = value;
+      else options.armature[name] = value;
+    } else if (!a.empty() && a[0] == '-') {
+      throw InputError("unknown option '" + a + "' (see nmdp inspect --help)");
+    } else if (path.empty()) {
+      path = a;
+    } else {
+      throw InputError("more than one robot file given ('" + path + "' and '" + a + "')");
+    }
+  }
+  if (path.empty()) throw InputError("no robot file given (usage: nmdp inspect ROBOT.urdf)");
+
+  const Model model = loadUrdf(path, options);
+  nlohmann::ordered_json out;
+  out["robot"] = model.robot_name;
+  out["base"] = baseTypeName(model.base);
+  out["dof"] = model.nq;
+  out["joint_names"] = model.dof_names;
+  out["total_mass"] = model.total_mass;
+  nlohmann::ordered_json links = nlohmann::json::array();
+  for (const Link& l : model.links) links.push_back({{"name", l.name}, {"mass", l.mass}});
+  out["links"] = links;
+  std::cout << out.dump(2) << "\n";
+  return 0;
+}
+
+}  // namespace nmdp::app

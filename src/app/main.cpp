@@ -1,0 +1,56 @@
+#include <cstring>
+#include <iostream>
+
+#include "app/commands.hpp"
+#include "io/input_error.hpp"
+
+namespace {
+
+struct Command {
+  const char* name;
+  const char* summary;
+  int (*run)(const nmdp::app::Args&);
+  const char* const* help;
+};
+
+const Command kCommands[] = {
+    {"inspect", "summarize a robot description (dof, joints, mass, links, feet) as JSON", nmdp::app::runInspect,
+     &nmdp::app::kInspectHelp},
+};
+
+void printUsage(std::ostream& out) {
+  out << "nmdp - legged robots on rigid and granular ground with learned contact models\n\n"
+         "usage: nmdp <command> [options]\n\ncommands:\n";
+  for (const Command& c : kCommands) out << "  " << c.name << std::string(10 - std::strlen(c.name), ' ') << c.summary << "\n";
+  out << "\nnmdp <command> --help shows the options of a command.\n";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
+    printUsage(std::cout);
+    return argc < 2 ? 2 : 0;
+  }
+  for (const Command& c : kCommands) {
+    if (std::strcmp(argv[1], c.name) != 0) continue;
+    nmdp::app::Args args(argv + 2, argv + argc);
+    for (const std::string& a : args)
+      if (a == "--help" || a == "-h") {
+        std::cout << *c.help;
+        return 0;
+      }
+    try {
+      return c.run(args);
+    } catch (const nmdp::InputError& e) {
+      std::cerr << "nmdp " << c.name << ": error: " << e.what() << "\n";
+      return 1;
+    } catch (const std::exception& e) {
+      std::cerr << "nmdp " << c.name << ": internal error: " << e.what() << "\n";
+      return 3;
+    }
+  }
+  std::cerr << "nmdp: unknown command '" << argv[1] << "'\n\n";
+  printUsage(std::cerr);
+  return 2;
+}

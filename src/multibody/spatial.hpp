@@ -1,0 +1,75 @@
+// Spatial (6-D) algebra in world coordinates, Featherstone's conventions:
+// motion vectors [angular; linear at the world origin], force vectors [moment about the origin; force].
+#pragma once
+#include <Eigen/Dense>
+
+namespace nmdp {
+
+using Vec3 = Eigen::Vector3d;
+using Vec4 = Eigen::Vector4d;
+using Vec6 = Eigen::Matrix<double, 6, 1>;
+using Mat3 = Eigen::Matrix3d;
+using Mat4 = Eigen::Matrix4d;
+using Mat6 = Eigen::Matrix<double, 6, 6>;
+using Mat34 = Eigen::Matrix<double, 3, 4>;
+using Mat43 = Eigen::Matrix<double, 4, 3>;
+using Mat6X = Eigen::Matrix<double, 6, Eigen::Dynamic>;
+using Mat3X = Eigen::Matrix<double, 3, Eigen::Dynamic>;
+
+inline Mat3 skew(const Vec3& w) {
+  Mat3 m;
+  m << 0, -w.z(), w.y(), w.z(), 0, -w.x(), -w.y(), w.x(), 0;
+  return m;
+}
+
+// m × u for motion vectors (Featherstone crm(m) u).
+inline Vec6 crossMotion(const Vec6& m, const Vec6& u) {
+  Vec6 r;
+  r.head<3>() = m.head<3>().cross(u.head<3>());
+  r.tail<3>() = m.head<3>().cross(u.tail<3>()) + m.tail<3>().cross(u.head<3>());
+  return r;
+}
+
+// m ×* f for a force vector f (Featherstone crf(m) f = -crm(m)^T f).
+inline Vec6 crossForce(const Vec6& m, const Vec6& f) {
+  Vec6 r;
+  r.head<3>() = m.head<3>().cross(f.head<3>()) + m.tail<3>().cross(f.tail<3>());
+  r.tail<3>() = m.head<3>().cross(f.tail<3>());
+  return r;
+}
+
+inline Mat6 crmMatrix(const Vec6& m) {
+  Mat6 X = Mat6::Zero();
+  X.topLeftCorner<3, 3>() = skew(m.head<3>());
+  X.bottomRightCorner<3, 3>() = skew(m.head<3>());
+  X.bottomLeftCorner<3, 3>() = skew(m.tail<3>());
+  return X;
+}
+
+inline Mat6 crfMatrix(const Vec6& m) { return -crmMatrix(m).transpose(); }
+
+// Spatial inertia about the world origin of a body with mass m, world centre of mass c and
+// rotational inertia Ic about the centre of mass (world axes).
+inline Mat6 spatialInertia(double m, const Vec3& c, const Mat3& Ic) {
+  Mat6 I;
+  const Mat3 cx = skew(c);
+  I.topLeftCorner<3, 3>() = Ic + m * cx * cx.transpose();
+  I.topRightCorner<3, 3>() = m * cx;
+  I.bottomLeftCorner<3, 3>() = m * cx.transpose();
+  I.bottomRightCorner<3, 3>() = m * Mat3::Identity();
+  return I;
+}
+
+// 4×4 homogeneous form of a motion vector: d/dt [R t; 0 1] = hat(v) [R t; 0 1].
+inline Mat4 motionHat(const Vec6& m) {
+  Mat4 X = Mat4::Zero();
+  X.topLeftCorner<3, 3>() = skew(m.head<3>());
+  X.topRightCorner<3, 1>() = m.tail<3>();
+  return X;
+}
+
+inline Mat3 rotationAbout(const Vec3& unit_axis, double angle) {
+  return Eigen::AngleAxisd(angle, unit_axis).toRotationMatrix();
+}
+
+}  // namespace nmdp

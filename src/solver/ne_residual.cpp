@@ -1,0 +1,22 @@
+#include "solver/ne_residual.hpp"
+
+#include "multibody/rnea.hpp"
+#include "multibody/rnea_derivatives.hpp"
+
+namespace nmdp {
+
+void neInertialResidual(const Model& model, Data& data, const Eigen::VectorXd& theta, const Eigen::VectorXd& q_n,
+                        const Eigen::VectorXd& qd_n, double h, Eigen::VectorXd& G, Eigen::MatrixXd* dG_dtheta) {
+  const double inv_h = 1.0 / h;
+  data.qd_work = (theta - q_n) * inv_h;
+  data.qdd_work = (data.qd_work - qd_n) * inv_h;
+  if (dG_dtheta) {
+    rneaDerivatives(model, data, theta, data.qd_work, data.qdd_work);
+    dG_dtheta->noalias() = data.dtau_dq + inv_h * data.dtau_dv + (inv_h * inv_h) * data.H;
+  } else {
+    rnea(model, data, theta, data.qd_work, data.qdd_work);
+  }
+  G = data.tau;
+}
+
+}  // namespace nmdp

@@ -1,0 +1,81 @@
+// Shared helpers for the test suite: where the robots are, random states, finite differences.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <functional>
+#include <random>
+#include <string>
+
+#include "multibody/data.hpp"
+#include "multibody/urdf_loader.hpp"
+
+namespace nmdp::test {
+
+inline std::string sourcePath(const std::string& rel) { return std::string(NMDP_SOURCE_DIR) + "/" + rel; }
+inline std::string sharedPath(const std::string& rel) { return std::string(NMDP_SHARED_DIR) + "/" + rel; }
+inline std::string quadrupedUrdf() { return sourcePath("models/quadruped/quadruped.urdf"); }
+
+// Skips the current test with a message when ../shared (real robots, granular data) is absent.
+#define NMDP_REQUIRE_SHARED(rel)                                                                    \
+  do {                                                                                              \
+    if (!std::filesystem::exists(::nmdp::test::sharedPath(rel)))                                   \
+      GTEST_SKIP() << "../shared is absent (" << ::nmdp::test::sharedPath(rel) << "): skipping";     \
+  } while (0)
+
+struct RobotCase {
+  std::string name;
+  std::string path;  // absolute
+  UrdfOptions options;
+  bool shared = false;
+};
+
+// The robots every derivative test runs on: the project's quadruped (three bases) and the real
+// robots of ../shared (A1, Solo-12, RoboSimian all-active with massless link0, and RoboSimian
+// in the paper's planar configuration).
+inline std::vector<RobotCase> derivativeRobots() {
+  std::vector<RobotCase> out;
+  UrdfOptions floating, planar, fixed;
+  planar.base = BaseType::Planar;
+  fixed.base = BaseType::Fixed;
+  out.push_back({"quadruped_floating", quadrupedUrdf(), floating, false});
+  out.push_back({"quadruped_planar", quadrupedUrdf(), planar, false});
+  out.push_back({"quadruped_fixed", quadrupedUrdf(), fixed, false});
+  out.push_back({"a1", sharedPath("robots/a1/urdf/a1.urdf"), floating, true});
+  out.push_back({"solo12", sharedPath("robots/solo12/urdf/solo12.urdf"), floating, true});
+  out.push_back({"robosimian", sharedPath("robots/robosimian/robosimian_caesar_new_all_active.urdf"), floating, true});
+  UrdfOptions paper;  // planar base, joints 2, 4, 6 of each limb active, the rest locked at 0
+  paper.base = BaseType::Planar;
+  for (int limb = 1; limb <= 4; ++limb)
+    for (int j : {0, 1, 3, 5, 7}) paper.locked_joints["limb" + std::to_string(limb) + "_joint" + std::to_string(j)] = 0.0;
+  out.push_back({"robosimian_paper_planar", sharedPath("robots/robosimian/robosimian_caesar_new_all_active.urdf"), paper, true});
+  return out;
+}
+
+inline Eigen::VectorXd randomVector(std::mt19937& rng, int n, double scale) {
+  std::uniform_real_distribution<double> u(-scale, scale);
+  Eigen::VectorXd v(n);
+  for (int i = 0; i < n; ++i) v[i] = u(rng);
+  return v;
+}
+
+// Central finite difference of a vector function: column j = (f(x + e_j ε) − f(x − e_j ε)) / 2ε.
+inline Eigen::MatrixXd centralDifference(const std::function<Eigen::VectorXd(const Eigen::VectorXd&)>& f,
+                                         const Eigen::VectorXd& x, double eps) {
+  const Eigen::VectorXd f0 = f(x);
+  Eigen::MatrixXd J(f0.size(), x.size());
+  for (int j = 0; j < x.size(); ++j) {
+    Eigen::VectorXd xp = x, xm = x;
+    xp[j] += eps;
+    xm[j] -= eps;
+    J.col(j) = (f(xp) - f(xm)) / (2 * eps);
+  }
+  return J;
+}
+
+// max |A − B| relative to the largest entry of B (at least `floor`).
+inline double relativeError(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, double floor = 1e-12) {
+  return (A - B).cwiseAbs().maxCoeff() / std::max(B.cwiseAbs().maxCoeff(), floor);
+}
+
+}  // namespace nmdp::test
