@@ -1,0 +1,142 @@
+// Jacobians and their θ-derivatives against central finite differences; the floating-base chart.
+#include "multibody/kinematics.hpp"
+#include "test_support.hpp"
+
+namespace nmdp::test {
+namespace {
+
+// World angular displacement taking Rm to Rp, divided by the step.
+Vec3 angularRate(const Mat3& Rp, const Mat3& Rm, double two_eps) {
+  const Eigen::AngleAxisd aa(Rp * Rm.transpose());
+  return aa.axis() * aa.angle() / two_eps;
+}
+
+class Kinematics : public ::testing::TestWithParam<RobotCase> {
+ protected:
+  void SetUp() override {
+    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
+      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
+    model = loadUrdf(GetParam().path, GetParam().options);
+  }
+  Model model;
+};
+
+TEST_P(Kinematics, SpatialJacobianMatchesFiniteDifferences) {
+  Data data(model), fd(model);
+  std::mt19937 rng(3);
+  const Eigen::VectorXd q = randomVector(rng, model.nq, 1.0);
+  const Vec3 local = randomVector(rng, 3, 0.1);
+  const double eps = 1e-6;
+  forwardKinematics(model, data, q);
+  for (int link = 0; link < static_cast<int>(model.links.size()); ++link) {
+    const int body = model.links[link].body;
+    Mat6X J(6, model.nq);
+    spatialJacobian(model, data, body, linkPoint(model, data, link, local), J);
+    Mat6X Jfd(6, model.nq);
+    for (int j = 0; j < model.nq; ++j) {
+      Eigen::VectorXd qp = q, qm = q;
+      qp[j] += eps;
+      qm[j] -= eps;
+      Mat3 Rp, Rm;
+      Vec3 pp, pm;
+      forwardKinematics(model, fd, qp);
+      linkPose(model, fd, link, Rp, pp);
+      const Vec3 xp = linkPoint(model, fd, link, local);
+      forwardKinematics(model, fd, qm);
+      linkPose(model, fd, link, Rm, pm);
+      const Vec3 xm = linkPoint(model, fd, link, local);
+      Jfd.col(j) << angularRate(Rp, Rm, 2 * eps), (xp - xm) / (2 * eps);
+    }
+    EXPECT_LT((J - Jfd).cwiseAbs().maxCoeff(), 1e-8) << model.links[link].name;
+    Mat3X Jp(3, model.nq);
+    pointJacobian(model, data, body, linkPoint(model, data, link, local), Jp);
+    EXPECT_EQ(Jp, J.bottomRows(3));
+  }
+}
+
+TEST_P(Kinematics, JacobianDerivativesMatchFiniteDifferences) {
+  Data data(model), fd(model);
+  std::mt19937 rng(4);
+  const Eigen::VectorXd q = randomVector(rng, model.nq, 1.0);
+  const Vec3 local = randomVector(rng, 3, 0.1);
+  Vec6 wrench = randomVector(rng, 6, 10.0);
+  const double eps = 1e-6;
+  forwardKinematics(model, data, q);
+  // The deepest link of every branch and one link half way.
+  for (int link = 0; link < static_cast<int>(model.links.size()); link += 3) {
+    const int body = model.links[link].body;
+    auto jacobianAt = [&](const Eigen::VectorXd& x) {
+      forwardKinematics(model, fd, x);
+      Mat6X J(6, model.nq);
+      spatialJacobian(model, fd, body, linkPoint(model, fd, link, local), J);
+      return J;
+    };
+    Eigen::MatrixXd JTf(model.nq, model.nq);
+    JTf.setZero();
+    addJacobianTransposeWrenchDerivative(model, data, body, linkPoint(model, data, link, local), wrench, JTf);
+    Eigen::MatrixXd JTf_fd(model.nq, model.nq);
+    for (int l = 0; l < model.nq; ++l) {
+      Eigen::VectorXd qp = q, qm = q;
+      qp[l] += eps;
+      qm[l] -= eps;
+      const Mat6X dJ_fd = (jacobianAt(qp) - jacobianAt(qm)) / (2 * eps);
+      Mat6X dJ(6, model.nq);
+      spatialJacobianDerivative(model, data, body, linkPoint(model, data, link, local), l, dJ);
+      EXPECT_LT((dJ - dJ_fd).cwiseAbs().maxCoeff(), 1e-7) << model.links[link].name << " l=" << l;
+      JTf_fd.col(l) = dJ_fd.transpose() * wrench;
+    }
+    EXPECT_LT((JTf - JTf_fd).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, JTf_fd.cwiseAbs().maxCoeff()))
+        << model.links[link].name;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, Kinematics, ::testing::ValuesIn(derivativeRobots()),
+                         [](const auto& info) { return info.param.name; });
+
+std::vector<Vec6> bodyVelocities(const Model& model, const Data& data, const Eigen::VectorXd& qd) {
+  std::vector<Vec6> v(model.nq);
+  for (int i = 0; i < model.nq; ++i) {
+    v[i] = data.S[i] * qd[i];
+    if (model.bodies[i].parent >= 0) v[i] += v[model.bodies[i].parent];
+  }
+  return v;
+}
+
+TEST(FloatingChart, RebasePreservesPoseAndVelocity) {
+  const Model model = loadUrdf(quadrupedUrdf());
+  Data data(model);
+  std::mt19937 rng(9);
+  Eigen::VectorXd q = randomVector(rng, model.nq, 1.2);
+  Eigen::VectorXd qd = randomVector(rng, model.nq, 2.0);
+  forwardKinematics(model, data, q);
+  const std::vector<Mat3> R0 = data.R;
+  const std::vector<Vec3> p0 = data.p;
+  const std::vector<Vec6> v0 = bodyVelocities(model, data, qd);
+  rebaseFloatingChart(model, data, q, qd);
+  EXPECT_EQ(q.segment<3>(3), Vec3::Zero());
+  forwardKinematics(model, data, q);
+  const std::vector<Vec6> v1 = bodyVelocities(model, data, qd);
+  // The intermediate virtual frames (after roll, after pitch) belong to the chart, not the robot.
+  for (int i = model.root_body; i < model.nq; ++i) {
+    EXPECT_LT((data.R[i] - R0[i]).norm(), 1e-12);
+    EXPECT_LT((data.p[i] - p0[i]).norm(), 1e-12);
+    EXPECT_LT((v1[i] - v0[i]).norm(), 1e-12) << model.bodies[i].name;
+  }
+}
+
+TEST(FloatingChart, BasePoseReportsRollPitchYaw) {
+  const Model model = loadUrdf(quadrupedUrdf());
+  Data data(model);
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nq);
+  q.head<3>() << 0.1, -0.2, 0.45;
+  data.base_chart = (Eigen::AngleAxisd(0.3, Vec3::UnitZ()) * Eigen::AngleAxisd(-0.2, Vec3::UnitY()) *
+                     Eigen::AngleAxisd(0.1, Vec3::UnitX())).toRotationMatrix();
+  forwardKinematics(model, data, q);
+  Vec3 position, rpy;
+  basePose(model, data, position, rpy);
+  EXPECT_LT((position - Vec3(0.1, -0.2, 0.45)).norm(), 1e-15);
+  EXPECT_LT((rpy - Vec3(0.1, -0.2, 0.3)).norm(), 1e-14);
+}
+
+}  // namespace
+}  // namespace nmdp::test
