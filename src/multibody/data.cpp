@@ -18,8 +18,7 @@ Data::Data(const Model& model) {
   dtau_dv = Eigen::MatrixXd::Zero(n, n);
   F.assign(n, Vec6::Zero());
   hc.assign(n, Vec6::Zero());
-  Mc.assign(n, Mat6::Zero());
-  Nc.assign(n, Mat6::Zero());
+  Bc.assign(n, Mat6::Zero());
   u_dq.assign(n, Vec6::Zero());
   x_dq.assign(n, Vec6::Zero());
   P.assign(n, Mat43::Zero());

@@ -34,7 +34,7 @@ struct Data {
   Eigen::MatrixXd dtau_dq, dtau_dv;
   std::vector<Vec6> F;            // composite force of each subtree
   std::vector<Vec6> hc;           // composite momentum Σ I_i v_i
-  std::vector<Mat6> Mc, Nc;       // Σ I_i crm(v_i), Σ crf(v_i) I_i
+  std::vector<Mat6> Bc;           // composite inertia rate Σ (crf(v_i) I_i − I_i crm(v_i))
   std::vector<Vec6> u_dq, x_dq;   // per-body seeds of the q-derivative
 
   // PBD terms

@@ -26,8 +26,10 @@ void forwardKinematics(const Model& model, Data& data, const Eigen::VectorXd& q)
       data.p[i] = pj + axis * q[i];
       data.S[i] << Vec3::Zero(), axis;
     }
-    const Vec3 c = data.p[i] + data.R[i] * b.com;
-    data.Iw[i] = spatialInertia(b.mass, c, data.R[i] * b.inertia_com * data.R[i].transpose());
+    if (b.mass > 0.0 || !b.inertia_com.isZero(0.0)) {  // virtual base bodies keep Iw = 0
+      const Vec3 c = data.p[i] + data.R[i] * b.com;
+      data.Iw[i] = spatialInertia(b.mass, c, data.R[i] * b.inertia_com * data.R[i].transpose());
+    }
   }
 }
 
@@ -67,38 +69,43 @@ void pointJacobian(const Model& model, const Data& data, int body, const Vec3& p
   }
 }
 
-namespace {
-// Velocity of the point under the unit motion of joint l.
-inline Vec3 pointMotion(const Vec6& s, const Vec3& point) { return s.tail<3>() + s.head<3>().cross(point); }
-
-// d(J_j)/dθ_l for j, l both ancestors of the body carrying the point.
-inline Vec6 columnDerivative(const Model& model, const Data& data, int j, int l, const Vec3& point) {
-  const Vec6& Sj = data.S[j];
-  const Vec3 dp = pointMotion(data.S[l], point);
-  Vec6 d;
-  if (model.isAncestor(l, j)) {  // joint l moves joint j's axis and the point rigidly
-    const Vec6 dS = crossMotion(data.S[l], Sj);
-    d.head<3>() = dS.head<3>();
-    d.tail<3>() = dS.tail<3>() + dS.head<3>().cross(point) + Sj.head<3>().cross(dp);
-  } else {  // joint l lies beyond j: only the point moves
-    d.head<3>().setZero();
-    d.tail<3>() = Sj.head<3>().cross(dp);
-  }
-  return d;
-}
-}  // namespace
-
+// With Jacobian columns at the point, J_j = [ω_j; v_j], the derivative of column j along joint l
+// is J_l × J_j plus the point's own motion, which simplifies to
+//   [ω_l × ω_j; ω_l × v_j]  when l is j or an ancestor of j (l moves j's axis and the point),
+//   [0;         ω_j × v_l]  when l lies beyond j (only the point moves).
 void spatialJacobianDerivative(const Model& model, const Data& data, int body, const Vec3& point, int l,
                                Eigen::Ref<Mat6X> dJ) {
   dJ.setZero();
   if (body < 0 || !model.isAncestor(l, body)) return;
-  for (int j = body; j >= 0; j = model.bodies[j].parent) dJ.col(j) = columnDerivative(model, data, j, l, point);
+  const Vec3 wl = data.S[l].head<3>();
+  const Vec3 vl = data.S[l].tail<3>() + wl.cross(point);
+  for (int j = body; j >= 0; j = model.bodies[j].parent) {
+    const Vec3 wj = data.S[j].head<3>();
+    if (j >= l) {
+      dJ.col(j).head<3>() = wl.cross(wj);
+      dJ.col(j).tail<3>() = wl.cross(data.S[j].tail<3>() + wj.cross(point));
+    } else {
+      dJ.col(j).tail<3>() = wj.cross(vl);
+    }
+  }
 }
 
+// With f = [τ; F]: for l ⪯ j the entry is ω_l · (ω_j × τ + v_j × F); for l beyond j it is
+// ω_j · (v_l × F). Per contact: two cross products per joint and one dot product per pair.
 void addJacobianTransposeWrenchDerivative(const Model& model, const Data& data, int body, const Vec3& point,
                                           const Vec6& wrench, Eigen::Ref<Eigen::MatrixXd> out) {
-  for (int j = body; j >= 0; j = model.bodies[j].parent)
-    for (int l = body; l >= 0; l = model.bodies[l].parent) out(j, l) += columnDerivative(model, data, j, l, point).dot(wrench);
+  const Vec3 torque = wrench.head<3>(), force = wrench.tail<3>();
+  for (int j = body; j >= 0; j = model.bodies[j].parent) {
+    const Vec3 wj = data.S[j].head<3>();
+    const Vec3 vj = data.S[j].tail<3>() + wj.cross(point);
+    const Vec3 aj = wj.cross(torque) + vj.cross(force);  // paired with ancestors l ⪯ j
+    const Vec3 bj = vj.cross(force);                      // paired with joints j' before j
+    out(j, j) += wj.dot(aj);
+    for (int l = model.bodies[j].parent; l >= 0; l = model.bodies[l].parent) {
+      out(j, l) += data.S[l].head<3>().dot(aj);
+      out(l, j) += data.S[l].head<3>().dot(bj);
+    }
+  }
 }
 
 void rebaseFloatingChart(const Model& model, Data& data, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> qd) {
