@@ -3,6 +3,7 @@
 
 #include "app/commands.hpp"
 #include "io/input_error.hpp"
+#include "multibody/feet.hpp"
 #include "multibody/urdf_loader.hpp"
 
 namespace nmdp::app {
@@ -72,6 +73,12 @@ int runInspect(const Args& args) {
   nlohmann::ordered_json links = nlohmann::json::array();
   for (const Link& l : model.links) links.push_back({{"name", l.name}, {"mass", l.mass}});
   out["links"] = links;
+  nlohmann::ordered_json feet = nlohmann::json::array();
+  for (const FootContact& f : detectFeet(model)) {
+    feet.push_back({{"link", f.link}, {"offset", {f.offset.x(), f.offset.y(), f.offset.z()}}, {"radius", f.radius}});
+    if (!f.warning.empty()) std::cerr << "warning: foot " << f.link << ": " << f.warning << "\n";
+  }
+  out["feet"] = feet;
   std::cout << out.dump(2) << "\n";
   return 0;
 }
