@@ -45,7 +45,12 @@ int runInspect(const Args& args) {
       return args[++i];
     };
     if (a == "--base") {
-      options.base = parseBaseType(next());
+      const std::string& value = next();
+      try {
+        options.base = parseBaseType(value);
+      } catch (const InputError& e) {
+        throw InputError(std::string("--base: ") + e.what());
+      }
     } else if (a == "--lock") {
       auto [name, value] = parseAssignment(a, next());
       options.locked_joints[name] = value;

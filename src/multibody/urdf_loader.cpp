@@ -2,6 +2,7 @@
 
 #include <tinyxml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <console_bridge/console.h>
 #include <filesystem>
@@ -32,10 +33,16 @@ class CapturingHandler : public console_bridge::OutputHandler {
   void log(const std::string& text, console_bridge::LogLevel level, const char*, int) override {
     if (level >= console_bridge::CONSOLE_BRIDGE_LOG_WARN) {
       if (!messages.empty()) messages += "; ";
-      messages += text;
+      std::string line = text;  // the CLI promises a one-line message
+      std::replace(line.begin(), line.end(), '\n', ' ');
+      messages += line;
     }
+    // urdfdom 3 logs some errors (e.g. a non-numeric mass or inertia) and still returns a model
+    // with the value left at 0, so any logged error must fail the load.
+    if (level >= console_bridge::CONSOLE_BRIDGE_LOG_ERROR) error = true;
   }
   std::string messages;
+  bool error = false;
 };
 
 struct Pose {
@@ -136,6 +143,7 @@ class Builder {
 
  private:
   std::string readFile() {
+    if (fs::is_directory(path_)) throw InputError(path_ + ": cannot open the URDF file (it is a directory)");
     std::ifstream in(path_);
     if (!in) throw InputError(path_ + ": cannot open the URDF file (" + (fs::exists(path_) ? "permission denied" : "no such file") + ")");
     std::stringstream ss;
@@ -181,7 +189,7 @@ class Builder {
       handler.messages += std::string(handler.messages.empty() ? "" : "; ") + e.what();
     }
     console_bridge::restorePreviousOutputHandler();
-    if (!urdf) throw InputError(path_ + ": invalid URDF: " + (handler.messages.empty() ? "urdfdom rejected it" : handler.messages));
+    if (!urdf || handler.error) throw InputError(path_ + ": invalid URDF: " + (handler.messages.empty() ? "urdfdom rejected it" : handler.messages));
     return urdf;
   }
 

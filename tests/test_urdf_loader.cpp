@@ -1,0 +1,751 @@
+// The URDF loader: fixed-joint merging (inertia included), massless links, base types, joint
+// kinds, locked joints, armature, massless movable joints, and the real robots of ../shared.
+// Fixture URDFs are generated here and written to a unique temporary directory.
+#include <atomic>
+#include <cmath>
+#include <fstream>
+#include <iomanip>
+#include <regex>
+#include <sstream>
+#include <unistd.h>
+
+#include "io/input_error.hpp"
+#include "multibody/crba.hpp"
+#include "multibody/kinematics.hpp"
+#include "multibody/rnea.hpp"
+#include "test_support.hpp"
+
+namespace nmdp::test {
+namespace {
+namespace fs = std::filesystem;
+
+// A fresh directory under the system temp dir, removed with everything in it at scope exit.
+class TempDir {
+ public:
+  TempDir() {
+    static std::atomic<int> counter{0};
+    std::random_device rd;
+    for (int attempt = 0;; ++attempt) {
+      path_ = fs::temp_directory_path() / ("nmdp_test_urdf_loader_" + std::to_string(::getpid()) + "_" +
+                                           std::to_string(counter++) + "_" + std::to_string(rd()));
+      if (fs::create_directory(path_)) break;
+      if (attempt > 100) throw std::runtime_error("cannot create a temporary directory");
+    }
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+
+  std::string write(const std::string& name, const std::string& content) const {
+    const fs::path p = path_ / name;
+    std::ofstream out(p);
+    out << content;
+    out.close();
+    if (!out) throw std::runtime_error("cannot write " + p.string());
+    return p.string();
+  }
+
+ private:
+  fs::path path_;
+};
+
+// Full-precision text of a number, so generated URDFs carry exactly the values the test uses.
+std::string num(double v) {
+  std::ostringstream s;
+  s << std::setprecision(17) << v;
+  return s.str();
+}
+std::string vec(const Vec3& v) { return num(v.x()) + " " + num(v.y()) + " " + num(v.z()); }
+
+// URDF rpy: R = Rz(yaw) Ry(pitch) Rx(roll).
+Mat3 rpyMatrix(const Vec3& rpy) {
+  return (Eigen::AngleAxisd(rpy.z(), Vec3::UnitZ()) * Eigen::AngleAxisd(rpy.y(), Vec3::UnitY()) *
+          Eigen::AngleAxisd(rpy.x(), Vec3::UnitX()))
+      .toRotationMatrix();
+}
+
+struct InertialSpec {
+  double mass = 0;
+  Vec3 xyz = Vec3::Zero();
+  Vec3 rpy = Vec3::Zero();
+  Mat3 I = Mat3::Zero();  // about the com, in the inertial frame
+};
+
+std::string inertialXml(const InertialSpec& s) {
+  return "    <inertial>\n      <origin xyz=\"" + vec(s.xyz) + "\" rpy=\"" + vec(s.rpy) + "\"/>\n      <mass value=\"" +
+         num(s.mass) + "\"/>\n      <inertia ixx=\"" + num(s.I(0, 0)) + "\" ixy=\"" + num(s.I(0, 1)) + "\" ixz=\"" +
+         num(s.I(0, 2)) + "\" iyy=\"" + num(s.I(1, 1)) + "\" iyz=\"" + num(s.I(1, 2)) + "\" izz=\"" + num(s.I(2, 2)) +
+         "\"/>\n    </inertial>\n";
+}
+std::string linkXml(const std::string& name, const InertialSpec* inertial) {
+  if (!inertial) return "  <link name=\"" + name + "\"/>\n";
+  return "  <link name=\"" + name + "\">\n" + inertialXml(*inertial) + "  </link>\n";
+}
+std::string jointXml(const std::string& name, const std::string& type, const std::string& parent,
+                     const std::string& child, const Vec3& xyz, const Vec3& rpy, const Vec3& axis = Vec3::UnitZ()) {
+  std::string s = "  <joint name=\"" + name + "\" type=\"" + type + "\">\n    <parent link=\"" + parent +
+                  "\"/>\n    <child link=\"" + child + "\"/>\n    <origin xyz=\"" + vec(xyz) + "\" rpy=\"" + vec(rpy) +
+                  "\"/>\n";
+  if (type != "fixed") s += "    <axis xyz=\"" + vec(axis) + "\"/>\n";
+  if (type == "revolute" || type == "prismatic")
+    s += "    <limit lower=\"-3\" upper=\"3\" effort=\"10\" velocity=\"10\"/>\n";
+  return s + "  </joint>\n";
+}
+std::string robotXml(const std::string& name, const std::string& body) {
+  return "<?xml version=\"1.0\"?>\n<robot name=\"" + name + "\">\n" + body + "</robot>\n";
+}
+
+// A symmetric positive definite inertia with off-diagonal terms.
+Mat3 inertiaMatrix(double a, double b, double c, double xy, double xz, double yz) {
+  Mat3 I;
+  I << a, xy, xz, xy, b, yz, xz, yz, c;
+  return I;
+}
+
+// Sum of every <mass value="..."> outside XML comments, scanned from the file text.
+double scanUrdfMass(const std::string& path) {
+  std::ifstream in(path);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  std::string text = ss.str(), stripped;
+  for (size_t pos = 0;;) {
+    const size_t open = text.find("<!--", pos);
+    stripped += text.substr(pos, open == std::string::npos ? std::string::npos : open - pos);
+    if (open == std::string::npos) break;
+    const size_t close = text.find("-->", open + 4);
+    if (close == std::string::npos) break;
+    pos = close + 3;
+  }
+  const std::regex mass_re("<mass\\s+value\\s*=\\s*\"([^\"]+)\"");
+  double sum = 0;
+  int count = 0;
+  for (std::sregex_iterator it(stripped.begin(), stripped.end(), mass_re), end; it != end; ++it) {
+    sum += std::stod((*it)[1].str());
+    ++count;
+  }
+  EXPECT_GT(count, 0) << path;
+  return sum;
+}
+
+std::string inputErrorMessage(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected nmdp::InputError, got another exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "expected nmdp::InputError, nothing was thrown";
+  return "";
+}
+
+// ------------------------------------------------------------------------------------------------
+// Fixed joints are merged into the parent body, inertia included.
+
+struct MergeFixture {
+  // torso --hinge(revolute)--> A --weld(fixed)--> B --tip(revolute)--> C
+  InertialSpec torso, a, b, c;
+  Vec3 hinge_xyz{0.2, -0.1, 0.05}, hinge_rpy{0.1, 0.2, -0.3}, hinge_axis{0.3, 0.5, 0.8};
+  Vec3 weld_xyz{0.1, -0.2, 0.3}, weld_rpy{0.4, -0.5, 0.6};
+  Vec3 tip_xyz{0.05, 0.15, -0.25}, tip_axis{1, 0, 0};  // tip origin rpy = 0 (relative to B)
+
+  MergeFixture() {
+    torso.mass = 4.0;
+    torso.xyz = Vec3(0.01, 0.02, -0.03);
+    torso.I = inertiaMatrix(0.2, 0.3, 0.25, 0.01, -0.02, 0.015);
+    a.mass = 1.3;
+    a.xyz = Vec3(0.05, 0.02, -0.1);
+    a.rpy = Vec3(0.1, 0.2, 0.3);
+    a.I = inertiaMatrix(0.02, 0.03, 0.025, 0.002, -0.001, 0.0015);
+    b.mass = 0.7;
+    b.xyz = Vec3(-0.03, 0.07, 0.2);
+    b.rpy = Vec3(-0.3, 0.25, 0.9);
+    b.I = inertiaMatrix(0.011, 0.007, 0.009, -0.001, 0.0005, 0.0008);
+    c.mass = 0.4;
+    c.xyz = Vec3(0.0, 0.0, -0.12);
+    c.I = inertiaMatrix(0.004, 0.005, 0.002, 0.0, 0.0003, 0.0);
+  }
+
+  std::string twoLinkUrdf() const {
+    return robotXml("merge_two", linkXml("torso", &torso) + jointXml("hinge", "revolute", "torso", "A", hinge_xyz, hinge_rpy, hinge_axis) +
+                                     linkXml("A", &a) + jointXml("weld", "fixed", "A", "B", weld_xyz, weld_rpy) +
+                                     linkXml("B", &b) + jointXml("tip", "revolute", "B", "C", tip_xyz, Vec3::Zero(), tip_axis) +
+                                     linkXml("C", &c));
+  }
+
+  // Combined inertia of A and B in A's frame, by the parallel-axis theorem.
+  void combined(double& m, Vec3& com, Mat3& Icom) const {
+    const Mat3 Rw = rpyMatrix(weld_rpy);
+    const double ma = a.mass, mb = b.mass;
+    const Vec3 ca = a.xyz;
+    const Vec3 cb = weld_xyz + Rw * b.xyz;
+    const Mat3 Ia = rpyMatrix(a.rpy) * a.I * rpyMatrix(a.rpy).transpose();
+    const Mat3 Rb = Rw * rpyMatrix(b.rpy);
+    const Mat3 Ib = Rb * b.I * Rb.transpose();
+    m = ma + mb;
+    com = (ma * ca + mb * cb) / m;
+    auto shift = [](double mass, const Vec3& d) { return mass * (d.squaredNorm() * Mat3::Identity() - d * d.transpose()); };
+    Icom = Ia + shift(ma, ca - com) + Ib + shift(mb, cb - com);
+  }
+
+  std::string singleLinkUrdf() const {
+    InertialSpec ab;
+    combined(ab.mass, ab.xyz, ab.I);
+    const Vec3 tip_in_a = weld_xyz + rpyMatrix(weld_rpy) * tip_xyz;
+    return robotXml("merge_one", linkXml("torso", &torso) + jointXml("hinge", "revolute", "torso", "A", hinge_xyz, hinge_rpy, hinge_axis) +
+                                     linkXml("A", &ab) + jointXml("tip", "revolute", "A", "C", tip_in_a, weld_rpy, tip_axis) +
+                                     linkXml("C", &c));
+  }
+};
+
+TEST(UrdfLoaderFixedJoints, MergedIntoParentWithCombinedInertia) {
+  TempDir dir;
+  MergeFixture fx;
+  const std::string two = dir.write("two.urdf", fx.twoLinkUrdf());
+  const std::string one = dir.write("one.urdf", fx.singleLinkUrdf());
+  for (BaseType base : {BaseType::Floating, BaseType::Planar, BaseType::Fixed}) {
+    SCOPED_TRACE(baseTypeName(base));
+    UrdfOptions opt;
+    opt.base = base;
+    const Model m2 = loadUrdf(two, opt);
+    const Model m1 = loadUrdf(one, opt);
+    ASSERT_EQ(m2.nq, m1.nq);
+    ASSERT_EQ(m2.dof_names, m1.dof_names);
+    const int nbase = base == BaseType::Floating ? 6 : base == BaseType::Planar ? 3 : 0;
+    EXPECT_EQ(m2.nq, nbase + 2);
+    ASSERT_EQ(m2.links.size(), 4u);
+    EXPECT_EQ(m2.links[m2.linkIndex("B")].body, m2.links[m2.linkIndex("A")].body);
+    EXPECT_FALSE(m2.links[m2.linkIndex("B")].parent_joint_movable);
+    EXPECT_EQ(m2.links[m2.linkIndex("B")].parent_joint, "weld");
+
+    // Total mass, and the merged body's mass, com and rotational inertia against the independent sum.
+    double m;
+    Vec3 com;
+    Mat3 Icom;
+    fx.combined(m, com, Icom);
+    const double total = fx.torso.mass + fx.a.mass + fx.b.mass + fx.c.mass;
+    EXPECT_NEAR(m2.total_mass, total, 1e-12);
+    EXPECT_NEAR(m1.total_mass, total, 1e-12);
+    const Body& hinge = m2.bodies[m2.dofIndex("hinge")];
+    EXPECT_NEAR(hinge.mass, m, 1e-12);
+    EXPECT_LT((hinge.com - com).norm(), 1e-12);
+    EXPECT_LT((hinge.inertia_com - Icom).cwiseAbs().maxCoeff(), 1e-12);
+    const Body& hinge1 = m1.bodies[m1.dofIndex("hinge")];
+    EXPECT_LT((hinge1.inertia_com - Icom).cwiseAbs().maxCoeff(), 1e-12);
+
+    Data d2(m2), d1(m1);
+    std::mt19937 rng(3);
+    for (int trial = 0; trial < 5; ++trial) {
+      const Eigen::VectorXd q = randomVector(rng, m2.nq, 1.5);
+      const Eigen::VectorXd qd = randomVector(rng, m2.nq, 2.0);
+      const Eigen::VectorXd qdd = randomVector(rng, m2.nq, 3.0);
+      crba(m2, d2, q);
+      crba(m1, d1, q);
+      EXPECT_LT(relativeError(d2.H, d1.H), 1e-12) << "trial " << trial;
+      for (int i = 0; i < m2.nq; ++i)
+        EXPECT_LT(relativeError(d2.Iw[i], d1.Iw[i]), 1e-12) << "spatial inertia of body " << i;
+      rnea(m2, d2, q, qd, qdd);
+      rnea(m1, d1, q, qd, qdd);
+      EXPECT_LT(relativeError(d2.tau, d1.tau), 1e-12) << "trial " << trial;
+
+      // Frames: C is the same; B = A · weld.
+      Mat3 Rc2, Rc1, Ra, Rb;
+      Vec3 pc2, pc1, pa, pb;
+      linkPose(m2, d2, m2.linkIndex("C"), Rc2, pc2);
+      linkPose(m1, d1, m1.linkIndex("C"), Rc1, pc1);
+      EXPECT_LT((Rc2 - Rc1).norm() + (pc2 - pc1).norm(), 1e-12);
+      linkPose(m2, d2, m2.linkIndex("A"), Ra, pa);
+      linkPose(m2, d2, m2.linkIndex("B"), Rb, pb);
+      EXPECT_LT((Rb - Ra * rpyMatrix(fx.weld_rpy)).norm(), 1e-12);
+      EXPECT_LT((pb - (pa + Ra * fx.weld_xyz)).norm(), 1e-12);
+    }
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// Links without <inertial> are massless.
+
+TEST(UrdfLoaderMassless, LinksWithoutInertialLoadAsMassless) {
+  TempDir dir;
+  InertialSpec chassis, arm;
+  chassis.mass = 5.0;
+  chassis.I = inertiaMatrix(0.1, 0.2, 0.15, 0, 0, 0);
+  arm.mass = 0.8;
+  arm.xyz = Vec3(0, 0, -0.1);
+  arm.I = inertiaMatrix(0.01, 0.01, 0.002, 0, 0, 0);
+  const std::string path = dir.write(
+      "massless.urdf",
+      robotXml("massless", linkXml("root_frame", nullptr) +
+                               jointXml("root_to_chassis", "fixed", "root_frame", "chassis", Vec3(0, 0, 0.1), Vec3(0, 0, 0.2)) +
+                               linkXml("chassis", &chassis) +
+                               jointXml("shoulder", "revolute", "chassis", "arm", Vec3(0.2, 0, 0), Vec3::Zero(), Vec3::UnitY()) +
+                               linkXml("arm", &arm) + jointXml("arm_to_sensor", "fixed", "arm", "sensor", Vec3(0, 0, -0.2), Vec3::Zero()) +
+                               linkXml("sensor", nullptr)));
+  for (BaseType base : {BaseType::Floating, BaseType::Planar, BaseType::Fixed}) {
+    SCOPED_TRACE(baseTypeName(base));
+    UrdfOptions opt;
+    opt.base = base;
+    const Model m = loadUrdf(path, opt);
+    EXPECT_EQ(m.links[m.root_link].name, "root_frame");
+    EXPECT_EQ(m.links[m.linkIndex("root_frame")].mass, 0.0);
+    EXPECT_EQ(m.links[m.linkIndex("sensor")].mass, 0.0);
+    EXPECT_NEAR(m.total_mass, 5.8, 1e-12);
+    Data d(m);
+    std::mt19937 rng(1);
+    crba(m, d, randomVector(rng, m.nq, 1.0));
+    EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(d.H).info(), Eigen::Success) << "H must be positive definite";
+  }
+}
+
+TEST(UrdfLoaderMassless, A1RootLinkWithoutInertial) {
+  NMDP_REQUIRE_SHARED("robots/a1/urdf/a1.urdf");
+  const std::string path = sharedPath("robots/a1/urdf/a1.urdf");
+  const Model m = loadUrdf(path);
+  EXPECT_EQ(m.links[m.root_link].name, "base");
+  EXPECT_EQ(m.links[m.root_link].mass, 0.0);
+  EXPECT_EQ(m.nq, 6 + 12);
+  EXPECT_GT(m.bodies[m.root_body].mass, 0.0) << "the trunk welded to `base` must carry the base's mass";
+  Data d(m);
+  std::mt19937 rng(5);
+  crba(m, d, randomVector(rng, m.nq, 1.0));
+  EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(d.H).info(), Eigen::Success);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Total masses of the project's quadruped and the real robots.
+
+void expectTotalMass(const std::string& path, double documented, double documented_tol) {
+  SCOPED_TRACE(path);
+  const double scanned = scanUrdfMass(path);
+  EXPECT_NEAR(scanned, documented, documented_tol) << "the URDF's masses do not add up to the documented total";
+  for (BaseType base : {BaseType::Floating, BaseType::Planar, BaseType::Fixed}) {
+    UrdfOptions opt;
+    opt.base = base;
+    const Model m = loadUrdf(path, opt);
+    EXPECT_NEAR(m.total_mass, scanned, 1e-9 * scanned) << baseTypeName(base);
+    double links = 0, bodies = 0;
+    for (const Link& l : m.links) links += l.mass;
+    for (const Body& b : m.bodies) bodies += b.mass;
+    bodies += m.world_second_moment(3, 3);
+    EXPECT_NEAR(links, scanned, 1e-9 * scanned);
+    EXPECT_NEAR(bodies, scanned, 1e-9 * scanned) << "merged body masses must add up to the total";
+  }
+}
+
+TEST(UrdfLoaderTotalMass, Quadruped) { expectTotalMass(quadrupedUrdf(), 17.41, 1e-9); }
+TEST(UrdfLoaderTotalMass, A1) {
+  NMDP_REQUIRE_SHARED("robots/a1/urdf/a1.urdf");
+  expectTotalMass(sharedPath("robots/a1/urdf/a1.urdf"), 13.7, 0.05);
+}
+TEST(UrdfLoaderTotalMass, Solo12) {
+  NMDP_REQUIRE_SHARED("robots/solo12/urdf/solo12.urdf");
+  expectTotalMass(sharedPath("robots/solo12/urdf/solo12.urdf"), 2.5, 0.01);
+}
+TEST(UrdfLoaderTotalMass, RoboSimian) {
+  NMDP_REQUIRE_SHARED("robots/robosimian/robosimian_caesar_new_all_active.urdf");
+  expectTotalMass(sharedPath("robots/robosimian/robosimian_caesar_new_all_active.urdf"), 99.9, 0.05);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Base types and degree-of-freedom names.
+
+TEST(UrdfLoaderBase, QuadrupedCoordinatesPerBaseType) {
+  std::vector<std::string> actuated;
+  for (const char* leg : {"FL", "FR", "RL", "RR"})
+    for (const char* j : {"hip", "thigh", "knee"}) actuated.push_back(std::string(leg) + "_" + j + "_joint");
+  struct Expect {
+    BaseType base;
+    std::vector<std::string> base_names;
+  };
+  for (const Expect& e : {Expect{BaseType::Floating, {"base_x", "base_y", "base_z", "base_roll", "base_pitch", "base_yaw"}},
+                          Expect{BaseType::Planar, {"base_x", "base_z", "base_pitch"}}, Expect{BaseType::Fixed, {}}}) {
+    SCOPED_TRACE(baseTypeName(e.base));
+    UrdfOptions opt;
+    opt.base = e.base;
+    const Model m = loadUrdf(quadrupedUrdf(), opt);
+    std::vector<std::string> names = e.base_names;
+    names.insert(names.end(), actuated.begin(), actuated.end());
+    EXPECT_EQ(m.nq, static_cast<int>(e.base_names.size()) + 12);
+    EXPECT_EQ(m.nv(), m.nq);
+    EXPECT_EQ(m.dof_names, names);
+    EXPECT_EQ(m.base, e.base);
+    ASSERT_EQ(static_cast<int>(m.bodies.size()), m.nq);
+    for (int i = 0; i < m.nq; ++i) {
+      EXPECT_EQ(m.bodies[i].joint_name, names[i]);
+      EXPECT_EQ(m.bodies[i].is_base, i < static_cast<int>(e.base_names.size()));
+      EXPECT_LT(m.bodies[i].parent, i) << "parents precede children";
+      EXPECT_EQ(m.dofIndex(names[i]), i);
+    }
+    if (e.base == BaseType::Fixed) {
+      EXPECT_EQ(m.root_body, -1);
+      EXPECT_EQ(m.links[m.root_link].body, -1);
+    } else {
+      EXPECT_EQ(m.root_body, static_cast<int>(e.base_names.size()) - 1);
+      EXPECT_EQ(m.links[m.root_link].body, m.root_body);
+    }
+    if (e.base == BaseType::Planar) {
+      EXPECT_EQ(m.bodies[0].kind, JointKind::Prismatic);
+      EXPECT_EQ(m.bodies[0].axis, Vec3::UnitX());
+      EXPECT_EQ(m.bodies[1].axis, Vec3::UnitZ());
+      EXPECT_EQ(m.bodies[2].kind, JointKind::Revolute);
+      EXPECT_EQ(m.bodies[2].axis, Vec3::UnitY());
+    }
+  }
+  EXPECT_EQ(parseBaseType("floating"), BaseType::Floating);
+  EXPECT_EQ(parseBaseType("planar"), BaseType::Planar);
+  EXPECT_EQ(parseBaseType("fixed"), BaseType::Fixed);
+  EXPECT_THROW(parseBaseType("free"), InputError);
+}
+
+TEST(UrdfLoaderBase, RealRobotsActuatedCounts) {
+  NMDP_REQUIRE_SHARED("robots/robosimian/robosimian_caesar_new_all_active.urdf");
+  struct Case {
+    std::string rel;
+    int actuated;
+  };
+  for (const Case& c : {Case{"robots/a1/urdf/a1.urdf", 12}, Case{"robots/solo12/urdf/solo12.urdf", 12},
+                        Case{"robots/robosimian/robosimian_caesar_new_all_active.urdf", 32},
+                        Case{"robots/robosimian/robosimian_caesar_new.urdf", 28}}) {
+    SCOPED_TRACE(c.rel);
+    for (auto [base, nbase] : {std::pair{BaseType::Floating, 6}, std::pair{BaseType::Planar, 3}, std::pair{BaseType::Fixed, 0}}) {
+      UrdfOptions opt;
+      opt.base = base;
+      EXPECT_EQ(loadUrdf(sharedPath(c.rel), opt).nq, nbase + c.actuated) << baseTypeName(base);
+    }
+  }
+}
+
+// ------------------------------------------------------------------------------------------------
+// Continuous and prismatic joints.
+
+struct SliderFixture {
+  Vec3 slide_xyz{0.1, 0.2, 0.3}, slide_rpy{0.3, -0.2, 0.5}, slide_axis{1, 1, 0};
+  Vec3 spin_xyz{0.0, 0.4, 0.05}, spin_rpy{0.2, 0.1, -0.3}, spin_axis{0, 0.6, 0.8};
+  std::string urdf() const {
+    InertialSpec base, carriage, wheel;
+    base.mass = 2;
+    base.I = inertiaMatrix(0.1, 0.1, 0.1, 0, 0, 0);
+    carriage.mass = 1;
+    carriage.xyz = Vec3(0.01, 0, 0.02);
+    carriage.I = inertiaMatrix(0.01, 0.02, 0.03, 0, 0, 0);
+    wheel.mass = 0.5;
+    wheel.xyz = Vec3(0.03, 0.01, 0);
+    wheel.I = inertiaMatrix(0.002, 0.003, 0.004, 0.0001, 0, 0);
+    // The continuous joint deliberately has no <limit>.
+    return robotXml("slider", linkXml("base", &base) +
+                                  jointXml("slide", "prismatic", "base", "carriage", slide_xyz, slide_rpy, slide_axis) +
+                                  linkXml("carriage", &carriage) +
+                                  jointXml("spin", "continuous", "carriage", "wheel", spin_xyz, spin_rpy, spin_axis) +
+                                  linkXml("wheel", &wheel));
+  }
+};
+
+TEST(UrdfLoaderJointKinds, PrismaticTranslatesAndContinuousRotates) {
+  TempDir dir;
+  SliderFixture fx;
+  const std::string path = dir.write("slider.urdf", fx.urdf());
+  UrdfOptions opt;
+  opt.base = BaseType::Fixed;
+  const Model m = loadUrdf(path, opt);
+  ASSERT_EQ(m.nq, 2);
+  EXPECT_EQ(m.dof_names, (std::vector<std::string>{"slide", "spin"}));
+  EXPECT_EQ(m.bodies[0].kind, JointKind::Prismatic);
+  EXPECT_EQ(m.bodies[1].kind, JointKind::Revolute);
+  EXPECT_NEAR(m.bodies[0].axis.norm(), 1.0, 1e-15) << "axes are normalized";
+
+  const Mat3 R0 = rpyMatrix(fx.slide_rpy), R1 = rpyMatrix(fx.spin_rpy);
+  const Vec3 u0 = fx.slide_axis.normalized(), u1 = fx.spin_axis.normalized();
+  const int carriage = m.linkIndex("carriage"), wheel = m.linkIndex("wheel"), base = m.linkIndex("base");
+  Data d(m);
+  for (double s : {-0.7, 0.0, 0.25, 1.3}) {
+    for (double th : {-2.0, 0.0, 0.9, 7.0, 40.0}) {  // a continuous joint has no limits
+      forwardKinematics(m, d, Eigen::Vector2d(s, th));
+      Mat3 R;
+      Vec3 p;
+      linkPose(m, d, base, R, p);
+      EXPECT_LT((R - Mat3::Identity()).norm() + p.norm(), 1e-15);
+      linkPose(m, d, carriage, R, p);
+      EXPECT_LT((R - R0).norm(), 1e-12) << "a prismatic joint does not rotate";
+      EXPECT_LT((p - (fx.slide_xyz + R0 * u0 * s)).norm(), 1e-12) << "translation along the axis (joint frame)";
+      const Mat3 Rw = R0 * R1 * Eigen::AngleAxisd(th, u1).toRotationMatrix();
+      const Vec3 pw = fx.slide_xyz + R0 * u0 * s + R0 * fx.spin_xyz;
+      linkPose(m, d, wheel, R, p);
+      EXPECT_LT((R - Rw).norm(), 1e-12) << "s=" << s << " th=" << th;
+      EXPECT_LT((p - pw).norm(), 1e-12);
+      // A point on the wheel stays at the same distance from the spin axis.
+      const Vec3 world_axis = R0 * R1 * u1;
+      const Vec3 point = linkPoint(m, d, wheel, Vec3(0.1, -0.05, 0.02));
+      const Vec3 rel = point - pw;
+      const Vec3 local = Vec3(0.1, -0.05, 0.02);
+      EXPECT_NEAR((rel - rel.dot(world_axis) * world_axis).norm(), (local - local.dot(u1) * u1).norm(), 1e-12);
+    }
+  }
+  // Full turns of the continuous joint give the same pose.
+  Mat3 Ra, Rb;
+  Vec3 pa, pb;
+  forwardKinematics(m, d, Eigen::Vector2d(0.3, 0.4));
+  linkPose(m, d, wheel, Ra, pa);
+  forwardKinematics(m, d, Eigen::Vector2d(0.3, 0.4 + 4 * M_PI));
+  linkPose(m, d, wheel, Rb, pb);
+  EXPECT_LT((Ra - Rb).norm() + (pa - pb).norm(), 1e-12);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Locked joints: same kinematics and dynamics as the unlocked model with the joint held at its value.
+
+void expectLockedEquivalent(const std::string& path, const UrdfOptions& unlocked_options,
+                            const std::map<std::string, double>& locks, int expected_nq) {
+  UrdfOptions locked_options = unlocked_options;
+  for (const auto& [name, value] : locks) locked_options.locked_joints[name] = value;
+  const Model U = loadUrdf(path, unlocked_options);
+  const Model L = loadUrdf(path, locked_options);
+  ASSERT_EQ(L.nq, expected_nq);
+  ASSERT_EQ(L.nq, U.nq - static_cast<int>(locks.size()));
+  ASSERT_EQ(L.links.size(), U.links.size());
+  EXPECT_NEAR(L.total_mass, U.total_mass, 1e-12 * U.total_mass);
+  for (const auto& [name, value] : locks) {
+    EXPECT_EQ(L.dofIndex(name), -1) << name << " must not be a coordinate once locked";
+    EXPECT_GE(U.dofIndex(name), 0) << name;
+  }
+  std::vector<int> map;  // locked-model coordinate -> unlocked-model coordinate
+  for (const std::string& name : L.dof_names) {
+    map.push_back(U.dofIndex(name));
+    ASSERT_GE(map.back(), 0) << name;
+  }
+  const int n = L.nq;
+  Data dl(L), du(U);
+  std::mt19937 rng(17);
+  for (int trial = 0; trial < 4; ++trial) {
+    const Eigen::VectorXd ql = randomVector(rng, n, 1.2);
+    const Eigen::VectorXd qdl = randomVector(rng, n, 2.0);
+    const Eigen::VectorXd qddl = randomVector(rng, n, 3.0);
+    Eigen::VectorXd qu = Eigen::VectorXd::Zero(U.nq), qdu = qu, qddu = qu;
+    for (const auto& [name, value] : locks) qu[U.dofIndex(name)] = value;
+    for (int i = 0; i < n; ++i) {
+      qu[map[i]] = ql[i];
+      qdu[map[i]] = qdl[i];
+      qddu[map[i]] = qddl[i];
+    }
+    crba(L, dl, ql);
+    crba(U, du, qu);
+    for (size_t k = 0; k < U.links.size(); ++k) {
+      const int kl = L.linkIndex(U.links[k].name);
+      ASSERT_GE(kl, 0) << U.links[k].name;
+      Mat3 Rl, Ru;
+      Vec3 pl, pu;
+      linkPose(L, dl, kl, Rl, pl);
+      linkPose(U, du, static_cast<int>(k), Ru, pu);
+      EXPECT_LT((Rl - Ru).norm(), 1e-12) << U.links[k].name << " trial " << trial;
+      EXPECT_LT((pl - pu).norm(), 1e-12) << U.links[k].name << " trial " << trial;
+    }
+    Eigen::MatrixXd Hsub(n, n);
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j) Hsub(i, j) = du.H(map[i], map[j]);
+    EXPECT_LT(relativeError(dl.H, Hsub), 1e-12) << "trial " << trial;
+    // Inverse dynamics with the locked joint at rest.
+    rnea(L, dl, ql, qdl, qddl);
+    rnea(U, du, qu, qdu, qddu);
+    Eigen::VectorXd tausub(n);
+    for (int i = 0; i < n; ++i) tausub[i] = du.tau[map[i]];
+    EXPECT_LT(relativeError(dl.tau, tausub), 1e-12) << "trial " << trial;
+  }
+}
+
+TEST(UrdfLoaderLockedJoints, QuadrupedKneeLocked) {
+  for (BaseType base : {BaseType::Floating, BaseType::Planar, BaseType::Fixed}) {
+    SCOPED_TRACE(baseTypeName(base));
+    UrdfOptions opt;
+    opt.base = base;
+    const int nbase = base == BaseType::Floating ? 6 : base == BaseType::Planar ? 3 : 0;
+    expectLockedEquivalent(quadrupedUrdf(), opt, {{"FL_knee_joint", -1.2}}, nbase + 11);
+  }
+}
+
+TEST(UrdfLoaderLockedJoints, LockedLinkKeepsItsName) {
+  UrdfOptions opt;
+  opt.locked_joints["FL_knee_joint"] = -1.2;
+  const Model m = loadUrdf(quadrupedUrdf(), opt);
+  const Link& calf = m.links[m.linkIndex("FL_calf")];
+  EXPECT_EQ(calf.parent_joint, "FL_knee_joint");
+  EXPECT_FALSE(calf.parent_joint_movable);
+  EXPECT_EQ(calf.body, m.links[m.linkIndex("FL_thigh")].body) << "a locked link is merged into its parent's body";
+}
+
+TEST(UrdfLoaderLockedJoints, PrismaticAndContinuousLocked) {
+  TempDir dir;
+  const std::string path = dir.write("slider.urdf", SliderFixture().urdf());
+  UrdfOptions opt;
+  opt.base = BaseType::Floating;
+  expectLockedEquivalent(path, opt, {{"slide", 0.35}}, 7);
+  expectLockedEquivalent(path, opt, {{"spin", -2.5}}, 7);
+}
+
+TEST(UrdfLoaderLockedJoints, RoboSimianPaperConfiguration) {
+  NMDP_REQUIRE_SHARED("robots/robosimian/robosimian_caesar_new_all_active.urdf");
+  const std::string path = sharedPath("robots/robosimian/robosimian_caesar_new_all_active.urdf");
+  std::map<std::string, double> locks;
+  for (int limb = 1; limb <= 4; ++limb)
+    for (int j : {0, 1, 3, 5, 7}) locks["limb" + std::to_string(limb) + "_joint" + std::to_string(j)] = 0.0;
+  UrdfOptions planar;
+  planar.base = BaseType::Planar;
+  expectLockedEquivalent(path, planar, locks, 3 + 12);
+
+  UrdfOptions paper = planar;
+  paper.locked_joints = locks;
+  const Model m = loadUrdf(path, paper);
+  std::vector<std::string> expected = {"base_x", "base_z", "base_pitch"};
+  for (int limb = 1; limb <= 4; ++limb)
+    for (int j : {2, 4, 6}) expected.push_back("limb" + std::to_string(limb) + "_joint" + std::to_string(j));
+  EXPECT_EQ(m.dof_names, expected);
+  EXPECT_NEAR(m.total_mass, scanUrdfMass(path), 1e-9);
+}
+
+// ------------------------------------------------------------------------------------------------
+// Armature.
+
+TEST(UrdfLoaderArmature, AddedToTheDiagonalAndToInverseDynamics) {
+  const double a = 0.05, def = 0.02;
+  UrdfOptions plain, one, all;
+  one.armature["FL_knee_joint"] = a;
+  all.armature["FL_knee_joint"] = a;
+  all.default_armature = def;
+  const Model m0 = loadUrdf(quadrupedUrdf(), plain);
+  const Model m1 = loadUrdf(quadrupedUrdf(), one);
+  const Model m2 = loadUrdf(quadrupedUrdf(), all);
+  const int k = m0.dofIndex("FL_knee_joint");
+  ASSERT_GE(k, 0);
+  Eigen::VectorXd add_one = Eigen::VectorXd::Zero(m0.nq), add_all = Eigen::VectorXd::Zero(m0.nq);
+  add_one[k] = a;
+  for (int i = 0; i < m0.nq; ++i) add_all[i] = m0.bodies[i].is_base ? 0.0 : (i == k ? a : def);
+  for (int i = 0; i < m0.nq; ++i) {
+    EXPECT_EQ(m1.bodies[i].armature, add_one[i]) << m0.dof_names[i];
+    EXPECT_EQ(m2.bodies[i].armature, add_all[i]) << m0.dof_names[i];
+  }
+  Data d0(m0), d1(m1), d2(m2);
+  std::mt19937 rng(23);
+  for (int trial = 0; trial < 3; ++trial) {
+    const Eigen::VectorXd q = randomVector(rng, m0.nq, 1.0);
+    const Eigen::VectorXd qd = randomVector(rng, m0.nq, 2.0);
+    const Eigen::VectorXd qdd = randomVector(rng, m0.nq, 4.0);
+    crba(m0, d0, q);
+    crba(m1, d1, q);
+    crba(m2, d2, q);
+    const Eigen::MatrixXd H0 = d0.H;
+    EXPECT_LT((d1.H - H0 - Eigen::MatrixXd(add_one.asDiagonal())).cwiseAbs().maxCoeff(), 1e-13);
+    EXPECT_LT((d2.H - H0 - Eigen::MatrixXd(add_all.asDiagonal())).cwiseAbs().maxCoeff(), 1e-13);
+    rnea(m0, d0, q, qd, qdd);
+    rnea(m1, d1, q, qd, qdd);
+    rnea(m2, d2, q, qd, qdd);
+    const double scale = d0.tau.cwiseAbs().maxCoeff();
+    EXPECT_LT((d1.tau - d0.tau - add_one.cwiseProduct(qdd)).cwiseAbs().maxCoeff(), 1e-13 * scale);
+    EXPECT_LT((d2.tau - d0.tau - add_all.cwiseProduct(qdd)).cwiseAbs().maxCoeff(), 1e-13 * scale);
+  }
+}
+
+TEST(UrdfLoaderArmature, RejectsUnknownJointAndNegativeValue) {
+  UrdfOptions bad_name, negative, on_fixed;
+  bad_name.armature["no_such_joint"] = 0.1;
+  negative.armature["FL_knee_joint"] = -0.1;
+  on_fixed.armature["imu_joint"] = 0.1;
+  EXPECT_NE(inputErrorMessage([&] { loadUrdf(quadrupedUrdf(), bad_name); }).find("no_such_joint"), std::string::npos);
+  EXPECT_NE(inputErrorMessage([&] { loadUrdf(quadrupedUrdf(), negative); }).find("FL_knee_joint"), std::string::npos);
+  EXPECT_NE(inputErrorMessage([&] { loadUrdf(quadrupedUrdf(), on_fixed); }).find("imu_joint"), std::string::npos);
+}
+
+// ------------------------------------------------------------------------------------------------
+// A movable joint that moves no mass or inertia.
+
+std::string masslessJointUrdf() {
+  InertialSpec base, arm, zero;
+  base.mass = 3;
+  base.I = inertiaMatrix(0.05, 0.06, 0.07, 0, 0, 0);
+  arm.mass = 1;
+  arm.xyz = Vec3(0, 0, -0.1);
+  arm.I = inertiaMatrix(0.01, 0.01, 0.001, 0, 0, 0);
+  zero.mass = 0;  // explicit zero mass and zero inertia
+  return robotXml("dead", linkXml("base", &base) +
+                              jointXml("live_joint", "revolute", "base", "arm", Vec3(0.1, 0, 0), Vec3::Zero(), Vec3::UnitY()) +
+                              linkXml("arm", &arm) +
+                              jointXml("dead_joint", "revolute", "base", "ghost", Vec3(-0.1, 0, 0), Vec3::Zero(), Vec3::UnitX()) +
+                              linkXml("ghost", nullptr) + jointXml("ghost_weld", "fixed", "ghost", "ghost_tip", Vec3(0, 0, -0.3), Vec3::Zero()) +
+                              linkXml("ghost_tip", &zero));
+}
+
+TEST(UrdfLoaderMasslessJoint, RejectedWithAdvice) {
+  TempDir dir;
+  const std::string path = dir.write("dead.urdf", masslessJointUrdf());
+  for (BaseType base : {BaseType::Floating, BaseType::Planar, BaseType::Fixed}) {
+    SCOPED_TRACE(baseTypeName(base));
+    UrdfOptions opt;
+    opt.base = base;
+    const std::string msg = inputErrorMessage([&] { loadUrdf(path, opt); });
+    EXPECT_NE(msg.find(path), std::string::npos) << msg;
+    EXPECT_NE(msg.find("dead_joint"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("lock"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("armature"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find("live_joint"), std::string::npos) << "only the offending joint is named: " << msg;
+  }
+}
+
+TEST(UrdfLoaderMasslessJoint, LoadsWithArmatureOrLocked) {
+  TempDir dir;
+  const std::string path = dir.write("dead.urdf", masslessJointUrdf());
+  UrdfOptions with_armature;
+  with_armature.armature["dead_joint"] = 0.01;
+  const Model m = loadUrdf(path, with_armature);
+  EXPECT_EQ(m.nq, 6 + 2);
+  const int k = m.dofIndex("dead_joint");
+  ASSERT_GE(k, 0);
+  Data d(m);
+  std::mt19937 rng(29);
+  crba(m, d, randomVector(rng, m.nq, 1.0));
+  EXPECT_NEAR(d.H(k, k), 0.01, 1e-15);
+  EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(d.H).info(), Eigen::Success);
+
+  UrdfOptions with_default;
+  with_default.default_armature = 0.002;
+  EXPECT_NO_THROW(loadUrdf(path, with_default));
+
+  UrdfOptions locked;
+  locked.locked_joints["dead_joint"] = 0.0;
+  const Model ml = loadUrdf(path, locked);
+  EXPECT_EQ(ml.nq, 6 + 1);
+  EXPECT_EQ(ml.dofIndex("dead_joint"), -1);
+}
+
+TEST(UrdfLoaderMasslessJoint, RoboSimianMasslessLink0WithMassiveSubtreeLoads) {
+  NMDP_REQUIRE_SHARED("robots/robosimian/robosimian_caesar_new_all_active.urdf");
+  const std::string path = sharedPath("robots/robosimian/robosimian_caesar_new_all_active.urdf");
+  for (BaseType base : {BaseType::Floating, BaseType::Planar, BaseType::Fixed}) {
+    SCOPED_TRACE(baseTypeName(base));
+    UrdfOptions opt;
+    opt.base = base;
+    Model m;
+    ASSERT_NO_THROW(m = loadUrdf(path, opt));
+    const int nbase = base == BaseType::Floating ? 6 : base == BaseType::Planar ? 3 : 0;
+    EXPECT_EQ(m.nq, nbase + 32);
+    for (int limb = 1; limb <= 4; ++limb) {
+      const std::string link0 = "limb" + std::to_string(limb) + "_link0";
+      const int l = m.linkIndex(link0);
+      ASSERT_GE(l, 0) << link0;
+      EXPECT_EQ(m.links[l].mass, 0.0) << link0;
+      const int b = m.links[l].body;
+      ASSERT_GE(b, 0);
+      EXPECT_EQ(m.bodies[b].mass, 0.0) << link0 << " is massless itself";
+      double subtree = 0;
+      for (int i = b; i < m.subtree_end[b]; ++i) subtree += m.bodies[i].mass;
+      EXPECT_GT(subtree, 0.0) << link0 << " carries a massive subtree";
+    }
+    Data d(m);
+    std::mt19937 rng(31);
+    crba(m, d, randomVector(rng, m.nq, 1.0));
+    EXPECT_EQ(Eigen::LLT<Eigen::MatrixXd>(d.H).info(), Eigen::Success);
+  }
+}
+
+}  // namespace
+}  // namespace nmdp::test
