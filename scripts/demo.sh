@@ -26,4 +26,4 @@ else
 fi
 echo
 echo "== articulated-body core timings (18-DOF quadruped, one core)"
-build/bench/bench_multibody --benchmark_filter='Quadruped' --benchmark_min_time=0.2 2>/dev/null
+build/bench/bench_multibody --benchmark_filter='/quadruped/' --benchmark_min_time=0.2 2>/dev/null
