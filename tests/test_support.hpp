@@ -29,6 +29,7 @@ struct RobotCase {
   UrdfOptions options;
   bool shared = false;
 };
+inline void PrintTo(const RobotCase& c, std::ostream* os) { *os << c.name; }
 
 // The robots every derivative test runs on: the project's quadruped (three bases) and the real
 // robots of ../shared (A1, Solo-12, RoboSimian all-active with massless link0, and RoboSimian
