@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev liburdfdom-dev libtinyxml-dev libhdf5-dev nlohmann-json3-dev libtorch-dev
+  libeigen3-dev liburdfdom-dev libtinyxml-dev libhdf5-dev nlohmann-json3-dev libtorch-dev libopenblas0-pthread
   googletest libgtest-dev libbenchmark-dev
   libmujoco-dev libqhull-dev libgl-dev
   python3-matplotlib python3-h5py

@@ -50,7 +50,7 @@ TEST_P(Kinematics, SpatialJacobianMatchesFiniteDifferences) {
     EXPECT_LT((J - Jfd).cwiseAbs().maxCoeff(), 1e-8) << model.links[link].name;
     Mat3X Jp(3, model.nq);
     pointJacobian(model, data, body, linkPoint(model, data, link, local), Jp);
-    EXPECT_EQ(Jp, J.bottomRows(3));
+    EXPECT_LT((Jp - J.bottomRows(3)).cwiseAbs().maxCoeff(), 1e-14);  // same columns (FMA may round differently)
   }
 }
 

@@ -10,5 +10,7 @@ using Args = std::vector<std::string>;
 
 int runInspect(const Args& args);
 extern const char* const kInspectHelp;
+int runWrench(const Args& args);
+extern const char* const kWrenchHelp;
 
 }  // namespace nmdp::app

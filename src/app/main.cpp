@@ -16,6 +16,8 @@ struct Command {
 const Command kCommands[] = {
     {"inspect", "summarize a robot description (dof, joints, mass, links, feet) as JSON", nmdp::app::runInspect,
      &nmdp::app::kInspectHelp},
+    {"wrench", "evaluate a contact model for one foot and print its wrench-space vertices", nmdp::app::runWrench,
+     &nmdp::app::kWrenchHelp},
 };
 
 void printUsage(std::ostream& out) {

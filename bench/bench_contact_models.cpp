@@ -1,0 +1,65 @@
+// Contact models (issue 3 targets, one core): V and dV/dξ for 4 contacts.
+//   Coulomb < 1 µs, the published RBF model (103 centres × 26 vertices) < 20 µs,
+//   a 2×64 MLP with autograd < 100 µs.
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <iostream>
+
+#include "contact_models/coulomb_model.hpp"
+#include "contact_models/mlp_function.hpp"
+#include "contact_models/rbf_model.hpp"
+#include "terrain/plane.hpp"
+
+namespace {
+using namespace nmdp;
+
+// Four feet of a quadruped standing a few mm deep, legs slightly tilted.
+std::vector<ContactFrame> fourFeet(double radius) {
+  std::vector<ContactFrame> frames(4);
+  const double depth[4] = {-0.003, -0.004, -0.0035, -0.002};
+  const double tilt[4] = {0.1, -0.05, 0.2, -0.15};
+  for (int i = 0; i < 4; ++i) {
+    frames[i].radius = radius;
+    frames[i].position = Vec3(0.2 * (i < 2 ? 1 : -1), 0.15 * (i % 2 ? 1 : -1), radius + depth[i]);
+    frames[i].leg_axis = Vec3(std::sin(tilt[i]), 0.0, std::cos(tilt[i]));
+    frames[i].lateral = Vec3::UnitY();
+  }
+  return frames;
+}
+
+void run(benchmark::State& state, const ContactModel& model, double radius, bool derivatives) {
+  const PlaneTerrain ground;
+  const std::vector<ContactFrame> frames = fourFeet(radius);
+  std::vector<ContactWrenches> out(frames.size());
+  for (ContactWrenches& o : out) o.resize(model.vertexCount());
+  for (auto _ : state) {
+    model.evaluate(frames, ground, out, derivatives);
+    benchmark::DoNotOptimize(out[3].V.data());
+    benchmark::ClobberMemory();
+  }
+}
+
+void registerModel(const std::string& name, std::shared_ptr<ContactModel> model, double radius) {
+  benchmark::RegisterBenchmark((name + "/V").c_str(), [model, radius](benchmark::State& s) { run(s, *model, radius, false); });
+  benchmark::RegisterBenchmark((name + "/V+dV").c_str(), [model, radius](benchmark::State& s) { run(s, *model, radius, true); });
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  const ConfigContext ctx{"bench", ""};
+  registerModel("Coulomb4", makeCoulombModel(nlohmann::json::object(), ctx), 0.02);
+  const std::string published = std::string(NMDP_SHARED_DIR) + "/granular/robosimian_sand_rbf";
+  if (std::filesystem::exists(published))
+    registerModel("RbfPublished4", makeRbfModel({{"file", published}}, ctx), 0.0);
+  else
+    std::cerr << "../shared is absent (" << published << "): skipping the published RBF model\n";
+  auto mlp = std::make_shared<PlanarWrenchModel>(
+      std::make_shared<MlpFunction>(randomMlpParameters(2, 64, 26, MlpActivation::Tanh, 7)),
+      PlanarGeometry{0.1572, 0.1, 0.02}, "mlp");
+  registerModel("Mlp2x64_4", mlp, 0.0);
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

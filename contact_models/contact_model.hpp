@@ -1,0 +1,53 @@
+// The one interface every solver consumes (DESIGN.md §7). A contact model maps the state of a
+// contact frame (a sphere fixed on a link, queried against the terrain) to the vertices of its
+// wrench polytope, V ∈ R^{6×K}: world frame, rows [torque about the sphere centre; force].
+// Optionally it also returns dV/dξ_i for the 6-D perturbation ξ = [δω; δp] of the contact frame
+// (a world rotation about the sphere centre, then a world translation). The solver chains it to
+// ∂V/∂θ_j = Σ_i dV/dξ_i J_c(i, j) with the spatial Jacobian of the sphere centre.
+#pragma once
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "multibody/spatial.hpp"
+#include "terrain/terrain.hpp"
+
+namespace nmdp {
+
+enum class DerivativeSupport { Analytic, Autograd, None };
+const char* derivativeSupportName(DerivativeSupport d);
+
+// World state of one contact, built by the solver from the robot's kinematics.
+struct ContactFrame {
+  Vec3 position = Vec3::Zero();    // sphere centre (the point whose Jacobian the solver uses)
+  double radius = 0.0;             // sphere radius; the force acts at its lowest point
+  Vec3 leg_axis = Vec3::UnitZ();   // unit, from the foot up the leg (link-fixed: rotates with δω)
+  Vec3 lateral = Vec3::UnitY();    // unit, normal of the leg's sagittal plane before projection
+  bool lateral_rotates = true;     // false when the sagittal plane is fixed in the world (planar base)
+};
+
+struct ContactWrenches {
+  Mat6X V;                   // 6×K
+  std::array<Mat6X, 6> dV;   // dV/dξ_i, each 6×K (only when derivatives were requested)
+  void resize(int K) {
+    V.setZero(6, K);
+    for (Mat6X& d : dV) d.setZero(6, K);
+  }
+};
+
+class ContactModel {
+ public:
+  virtual ~ContactModel() = default;
+  virtual int vertexCount() const = 0;
+  virtual DerivativeSupport derivative() const = 0;
+  virtual std::string describe() const = 0;  // type and parameters, one line
+
+  // Evaluates every contact of one step in one call (learned models batch them). `out` must hold
+  // frames.size() entries resized to vertexCount(). Asking for derivatives of a model whose
+  // derivative() is None throws std::logic_error naming the zeroth-order alternative.
+  virtual void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                        std::vector<ContactWrenches>& out, bool with_derivatives) const = 0;
+};
+
+}  // namespace nmdp

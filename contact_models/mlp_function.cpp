@@ -1,0 +1,479 @@
+#include "contact_models/mlp_function.hpp"
+
+#include <torch/csrc/autograd/forward_grad.h>
+#include <torch/torch.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <mutex>
+#include <random>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/hdf5_file.hpp"
+#include "io/input_error.hpp"
+
+namespace nmdp {
+
+namespace {
+
+constexpr double kFormatVersion = 1.0;
+constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
+constexpr double kSoftplusThreshold = 36.0;  // log1p(exp(-36)) < half an ulp of 36: the switch is invisible
+
+using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+using RowMatrixX2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+
+std::string shape(const Eigen::MatrixXd& m) { return std::to_string(m.rows()) + " x " + std::to_string(m.cols()); }
+
+// "(r, c)" of the first non-finite entry, "" when every entry is finite.
+std::string firstNonFinite(const Eigen::MatrixXd& m) {
+  for (Eigen::Index r = 0; r < m.rows(); ++r)
+    for (Eigen::Index c = 0; c < m.cols(); ++c)
+      if (!std::isfinite(m(r, c))) return "(" + std::to_string(r) + ", " + std::to_string(c) + ")";
+  return "";
+}
+
+std::string layerName(size_t i) { return "/mlp/layer_" + std::to_string(i); }
+
+// libtorch 1.13 keeps one forward-AD level for the whole process ("nested forward mode AD is not
+// supported"): evaluations with forward-mode derivatives take turns.
+std::mutex& forwardModeMutex() {
+  static std::mutex mutex;
+  return mutex;
+}
+
+// Enters a forward-AD level and leaves it on every path out.
+class DualLevel {
+ public:
+  DualLevel() : index_(torch::autograd::ForwardADLevel::get_next_idx()) {}
+  ~DualLevel() { torch::autograd::ForwardADLevel::release_idx(index_); }
+  DualLevel(const DualLevel&) = delete;
+  DualLevel& operator=(const DualLevel&) = delete;
+  int64_t index() const { return static_cast<int64_t>(index_); }
+
+ private:
+  uint64_t index_;
+};
+
+}  // namespace
+
+// ----- activations and parameters ----------------------------------------------------------------
+
+const char* mlpActivationName(MlpActivation activation) {
+  switch (activation) {
+    case MlpActivation::Tanh: return "tanh";
+    case MlpActivation::Softplus: return "softplus";
+    case MlpActivation::Silu: return "silu";
+  }
+  return "?";
+}
+
+bool parseMlpActivation(const std::string& name, MlpActivation* activation) {
+  for (MlpActivation a : {MlpActivation::Tanh, MlpActivation::Softplus, MlpActivation::Silu}) {
+    if (name == mlpActivationName(a)) {
+      *activation = a;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string mlpActivationProblem(const std::string& name) {
+  MlpActivation a;
+  if (parseMlpActivation(name, &a)) return "";
+  std::string lower = name;
+  std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower.find("relu") != std::string::npos)
+    return "activation '" + name + "' is not allowed: ReLU has a kink at 0 and the solver needs a contact model that "
+           "is at least C1; use tanh, softplus or silu";
+  return "unknown activation '" + name + "'; valid activations: tanh, softplus, silu";
+}
+
+const char* mlpJacobianName(MlpJacobian jacobian) {
+  switch (jacobian) {
+    case MlpJacobian::ForwardMode: return "forward-mode";
+    case MlpJacobian::DoubleBackward: return "double-backward";
+    case MlpJacobian::Tangents: return "tangents";
+  }
+  return "?";
+}
+
+bool parseMlpJacobian(const std::string& name, MlpJacobian* jacobian) {
+  for (MlpJacobian j : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
+    if (name == mlpJacobianName(j)) {
+      *jacobian = j;
+      return true;
+    }
+  }
+  return false;
+}
+
+int MlpParameters::vertexCount() const {
+  return layers.empty() ? 0 : static_cast<int>(layers.back().weight.rows() / 3);
+}
+
+std::vector<int> MlpParameters::sizes() const {
+  std::vector<int> out{2};
+  for (const MlpLayer& l : layers) out.push_back(static_cast<int>(l.weight.rows()));
+  return out;
+}
+
+std::string mlpParameterProblem(const MlpParameters& p) {
+  if (p.layers.empty()) return "group '/mlp' has no layers: attribute 'layers' must be at least 1";
+  Eigen::Index in = 2;
+  for (size_t i = 0; i < p.layers.size(); ++i) {
+    const MlpLayer& l = p.layers[i];
+    const std::string w = layerName(i) + "/weight", b = layerName(i) + "/bias";
+    if (l.weight.rows() < 1 || l.weight.cols() != in) {
+      const std::string why = i == 0 ? "the input is (phi, beta)"
+                                     : "the previous layer " + layerName(i - 1) + " has " + std::to_string(in) + " outputs";
+      return "dataset '" + w + "' is " + shape(l.weight) + ", expected (outputs) x " + std::to_string(in) + ": " + why;
+    }
+    if (const std::string bad = firstNonFinite(l.weight); !bad.empty())
+      return "dataset '" + w + "' has a non-finite value (NaN or inf) at " + bad;
+    if (l.bias.size() != l.weight.rows())
+      return "dataset '" + b + "' has " + std::to_string(l.bias.size()) + " values, expected " +
+             std::to_string(l.weight.rows()) + " (the rows of '" + w + "')";
+    if (const std::string bad = firstNonFinite(l.bias); !bad.empty())
+      return "dataset '" + b + "' has a non-finite value (NaN or inf) at " + bad;
+    in = l.weight.rows();
+  }
+  const std::string last = layerName(p.layers.size() - 1) + "/weight";
+  if (in % 3 != 0)
+    return "dataset '" + last + "' has " + std::to_string(in) +
+           " rows: the output layer must give 3 values (F_x, F_z, tau_y) per vertex";
+  if (!p.input_mean.allFinite()) return "dataset '/mlp/input_mean' has a non-finite value";
+  if (!p.input_std.allFinite() || !(p.input_std.minCoeff() > 0.0))
+    return "dataset '/mlp/input_std' must hold two positive finite numbers";
+  for (const auto& [name, v] : {std::pair<const char*, const Eigen::VectorXd*>{"/mlp/output_scale", &p.output_scale},
+                                {"/mlp/output_offset", &p.output_offset}}) {
+    if (v->size() != in)
+      return "dataset '" + std::string(name) + "' has " + std::to_string(v->size()) + " values, expected " +
+             std::to_string(in) + " (the rows of '" + last + "')";
+    if (const std::string bad = firstNonFinite(*v); !bad.empty())
+      return "dataset '" + std::string(name) + "' has a non-finite value (NaN or inf) at " + bad;
+  }
+  return "";
+}
+
+MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, MlpActivation activation,
+                                  std::uint32_t seed) {
+  if (hidden_layers < 0 || width < 1 || vertices < 1)
+    throw std::invalid_argument("randomMlpParameters: needs hidden_layers >= 0, width >= 1, vertices >= 1");
+  std::mt19937 rng(seed);
+  const auto uniform = [&](double bound) {  // in (−bound, bound)
+    const double u = (static_cast<double>(rng()) + 0.5) / 4294967296.0;
+    return bound * (2.0 * u - 1.0);
+  };
+  MlpParameters p;
+  p.activation = activation;
+  int in = 2;
+  for (int i = 0; i <= hidden_layers; ++i) {
+    const int out = i < hidden_layers ? width : 3 * vertices;
+    const double bound = 1.0 / std::sqrt(static_cast<double>(in));
+    MlpLayer l;
+    l.weight.resize(out, in);
+    for (int r = 0; r < out; ++r)
+      for (int c = 0; c < in; ++c) l.weight(r, c) = uniform(bound);
+    l.bias.resize(out);
+    for (int r = 0; r < out; ++r) l.bias[r] = uniform(bound);
+    p.layers.push_back(std::move(l));
+    in = out;
+  }
+  p.output_scale = Eigen::VectorXd::Ones(3 * vertices);
+  p.output_offset = Eigen::VectorXd::Zero(3 * vertices);
+  return p;
+}
+
+// ----- the function --------------------------------------------------------------------------------
+
+struct MlpFunction::Torch {
+  std::vector<torch::Tensor> weight_t;  // in × out, contiguous (A_iᵀ)
+  std::vector<torch::Tensor> bias;      // out
+  MlpActivation activation = MlpActivation::Tanh;
+
+  torch::Tensor activate(const torch::Tensor& x) const {
+    switch (activation) {
+      case MlpActivation::Tanh: return torch::tanh(x);
+      case MlpActivation::Softplus: return torch::softplus(x, 1.0, kSoftplusThreshold);
+      case MlpActivation::Silu: return torch::silu(x);
+    }
+    return x;
+  }
+
+  // σ'(z) given z and h = σ(z) (softplus: the logistic function; above the threshold autograd uses 1,
+  // which the logistic function equals to within 2.3e-16).
+  torch::Tensor slope(const torch::Tensor& z, const torch::Tensor& h) const {
+    switch (activation) {
+      case MlpActivation::Tanh: return 1.0 - h * h;
+      case MlpActivation::Softplus: return torch::sigmoid(z);
+      case MlpActivation::Silu: {
+        const torch::Tensor s = torch::sigmoid(z);
+        return s * (1.0 + z * (1.0 - s));
+      }
+    }
+    return torch::ones_like(z);
+  }
+
+  torch::Tensor forward(torch::Tensor h) const {
+    const size_t n = weight_t.size();
+    for (size_t i = 0; i < n; ++i) {
+      h = torch::addmm(bias[i], h, weight_t[i]);
+      if (i + 1 < n) h = activate(h);
+    }
+    return h;
+  }
+};
+
+MlpFunction::MlpFunction(MlpParameters parameters, MlpJacobian jacobian)
+    : params_(std::move(parameters)), jacobian_(jacobian) {
+  if (const std::string problem = mlpParameterProblem(params_); !problem.empty())
+    throw std::invalid_argument("MLP parameters: " + problem);
+  torch::set_num_threads(1);  // process-global: deterministic single-threaded evaluation
+  auto t = std::make_unique<Torch>();
+  t->activation = params_.activation;
+  const auto options = torch::TensorOptions().dtype(torch::kFloat64);
+  for (const MlpLayer& l : params_.layers) {
+    // The column-major out×in weight is, read row-major, its in×out transpose.
+    t->weight_t.push_back(
+        torch::from_blob(const_cast<double*>(l.weight.data()), {l.weight.cols(), l.weight.rows()}, options).clone());
+    t->bias.push_back(torch::from_blob(const_cast<double*>(l.bias.data()), {l.bias.size()}, options).clone());
+  }
+  torch_ = std::move(t);
+}
+
+MlpFunction::~MlpFunction() = default;
+
+std::string MlpFunction::describe() const {
+  std::ostringstream s;
+  s << "MLP ";
+  const std::vector<int> sizes = params_.sizes();
+  for (size_t i = 0; i < sizes.size(); ++i) s << (i ? "-" : "") << sizes[i];
+  s << " " << mlpActivationName(params_.activation) << ", " << vertexCount() << " vertices, "
+    << (jacobian_ == MlpJacobian::Tangents ? "hand-coded tangents" : std::string(mlpJacobianName(jacobian_)) + " autograd");
+  return s.str();
+}
+
+void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
+                           Eigen::MatrixXd* dW_dbeta) const {
+  const Eigen::Index B = features.rows();
+  const Eigen::Index O = 3 * vertexCount();
+  W.resize(B, O);
+  if (dW_dphi) dW_dphi->resize(B, O);
+  if (dW_dbeta) dW_dbeta->resize(B, O);
+  if (B == 0) return;
+
+  // The requested directions (0 = φ, 1 = β); the batch is stacked once per direction.
+  Eigen::MatrixXd* outputs[2] = {dW_dphi, dW_dbeta};
+  int directions[2], D = 0;
+  for (int d = 0; d < 2; ++d)
+    if (outputs[d]) directions[D++] = d;
+  const Eigen::Index R = B * std::max(D, 1);
+
+  const Eigen::RowVector2d inv_std = params_.input_std.cwiseInverse().transpose();
+  RowMatrixX2 x(R, 2);
+  for (Eigen::Index r = 0; r < R; ++r)
+    x.row(r) = (features.row(r % B) - params_.input_mean.transpose()).cwiseProduct(inv_std);
+  const auto options = torch::TensorOptions().dtype(torch::kFloat64);
+  torch::Tensor input = torch::from_blob(x.data(), {R, 2}, options);
+
+  const Eigen::RowVectorXd scale = params_.output_scale.transpose();
+  const Eigen::RowVectorXd offset = params_.output_offset.transpose();
+  const auto storeValues = [&](const torch::Tensor& y) {  // first B rows of R×O → W
+    const torch::Tensor c = y.contiguous();
+    const Eigen::Map<const RowMatrix> Y(c.data_ptr<double>(), y.size(0), O);
+    W = (Y.topRows(B).array().rowwise() * scale.array()).matrix();
+    W.rowwise() += offset;
+  };
+  const auto storeTangents = [&](const torch::Tensor& t) {  // block d of R×O → dW/df_d
+    const torch::Tensor c = t.contiguous();
+    const Eigen::Map<const RowMatrix> T(c.data_ptr<double>(), R, O);
+    for (int k = 0; k < D; ++k)
+      *outputs[directions[k]] = (T.middleRows(k * B, B).array().rowwise() * scale.array()).matrix();
+  };
+
+  if (D == 0) {
+    torch::NoGradGuard no_grad;
+    storeValues(torch_->forward(input));
+    return;
+  }
+
+  // Seeds: block k carries e_d / std_d, so the tangents are derivatives with respect to the raw features.
+  RowMatrixX2 seed = RowMatrixX2::Zero(R, 2);
+  for (int k = 0; k < D; ++k) seed.block(k * B, directions[k], B, 1).setConstant(inv_std[directions[k]]);
+  torch::Tensor seed_t = torch::from_blob(seed.data(), {R, 2}, options);
+
+  if (jacobian_ == MlpJacobian::Tangents) {
+    // Values on B rows exactly as in the value-only pass; the D·B tangent rows through the same
+    // weights: dz = dh A_iᵀ, dh' = σ'(z) ⊙ dz (σ'(z) broadcast over the D direction blocks).
+    torch::NoGradGuard no_grad;
+    const Torch& t = *torch_;
+    torch::Tensor h = input.slice(0, 0, B), T = seed_t;
+    const size_t n = t.weight_t.size();
+    for (size_t i = 0; i < n; ++i) {
+      const torch::Tensor z = torch::addmm(t.bias[i], h, t.weight_t[i]);
+      T = torch::mm(T, t.weight_t[i]);
+      if (i + 1 == n) {
+        h = z;
+        break;
+      }
+      h = t.activate(z);
+      T = (T.view({D, B, -1}) * t.slope(z, h)).view({D * B, -1});
+    }
+    storeValues(h);
+    storeTangents(T);
+    return;
+  }
+
+  if (jacobian_ == MlpJacobian::ForwardMode) {
+    std::lock_guard<std::mutex> lock(forwardModeMutex());
+    torch::NoGradGuard no_grad;  // forward-mode AD does not need the reverse graph
+    DualLevel level;
+    const torch::Tensor y = torch_->forward(at::_make_dual(input, seed_t, level.index()));
+    const auto [primal, tangent] = at::_unpack_dual(y, level.index());
+    storeValues(primal);
+    storeTangents(tangent);  // copied out before the level (and the tangent with it) is released
+    return;
+  }
+
+  // Double-backward: g(u) = Jᵀu, then ∂(g · seed)/∂u = J seed.
+  torch::AutoGradMode grad_mode(true);
+  input.requires_grad_(true);
+  const torch::Tensor y = torch_->forward(input);
+  const torch::Tensor u = torch::zeros_like(y).requires_grad_(true);
+  const torch::Tensor g = torch::autograd::grad({y}, {input}, {u}, /*retain_graph=*/true, /*create_graph=*/true)[0];
+  const torch::Tensor tangent = torch::autograd::grad({g}, {u}, {seed_t})[0];
+  torch::NoGradGuard no_grad;
+  storeValues(y.detach());
+  storeTangents(tangent.detach());
+}
+
+// ----- the HDF5 model file -------------------------------------------------------------------------
+
+MlpModelFile loadMlpModel(const std::string& path) {
+  const h5::File file = h5::File::openRead(path);
+  const auto fail = [&](const std::string& what) { throw InputError(path + ": " + what); };
+  if (!file.exists("/mlp"))
+    fail("not an nmdp MLP model file: group '/mlp' is missing (write one with saveMlpModel or 'nmdp fit')");
+
+  if (file.hasAttribute("/mlp", "format_version")) {
+    const double version = file.readDoubleAttribute("/mlp", "format_version");
+    if (!(version >= 1.0 && version <= kFormatVersion))
+      fail("attribute 'format_version' of '/mlp' is " + std::to_string(version) + ", this program reads version " +
+           std::to_string(kFormatVersion));
+  }
+  if (file.hasAttribute("/mlp", "wrench")) {
+    const std::string wrench = file.readStringAttribute("/mlp", "wrench");
+    if (wrench != "planar")
+      fail("attribute 'wrench' of '/mlp' is '" + wrench + "': this program reads planar models only (\"planar\", "
+           "3 outputs (F_x, F_z, tau_y) per vertex)");
+  }
+
+  MlpModelFile out;
+  MlpParameters& p = out.parameters;
+  const std::string activation = file.readStringAttribute("/mlp", "activation");
+  if (const std::string problem = mlpActivationProblem(activation); !problem.empty())
+    fail("attribute 'activation' of '/mlp': " + problem);
+  parseMlpActivation(activation, &p.activation);
+
+  const auto integer = [&](const std::string& name, double lo, double hi) {
+    const double x = file.readDoubleAttribute("/mlp", name);
+    if (!(x >= lo && x <= hi) || x != std::floor(x))
+      fail("attribute '" + name + "' of '/mlp' must be an integer in [" + std::to_string(static_cast<long>(lo)) + ", " +
+           std::to_string(static_cast<long>(hi)) + "], got " + std::to_string(x));
+    return static_cast<int>(x);
+  };
+  const auto finite = [&](const std::string& name) {
+    const double x = file.readDoubleAttribute("/mlp", name);
+    if (!std::isfinite(x)) fail("attribute '" + name + "' of '/mlp' must be a finite number");
+    return x;
+  };
+  const int layer_count = integer("layers", 1, 1000);
+  const int K = integer("vertices", 1, 100000);
+  out.geometry.torque_centre = finite("torque_centre");
+  out.geometry.cutoff = finite("cutoff");
+  out.geometry.cutoff_width = finite("cutoff_width");
+  if (!(out.geometry.cutoff_width > 0.0)) fail("attribute 'cutoff_width' of '/mlp' must be positive");
+
+  // Vectors: a 1-D dataset, or a 2-D one with a single row or column.
+  const auto vector = [&](const std::string& name, Eigen::Index n, const std::string& what) {
+    const Eigen::MatrixXd m = file.readMatrix(name);
+    if (m.size() != n || (m.rows() != 1 && m.cols() != 1))
+      fail("dataset '" + name + "' must hold " + std::to_string(n) + " values (" + what + "), got " + shape(m));
+    if (const std::string bad = firstNonFinite(m); !bad.empty())
+      fail("dataset '" + name + "' has a non-finite value (NaN or inf) at " + bad);
+    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(m.data(), n));
+  };
+  p.input_mean = vector("/mlp/input_mean", 2, "mean of phi, beta");
+  p.input_std = vector("/mlp/input_std", 2, "standard deviation of phi, beta");
+  p.output_scale = vector("/mlp/output_scale", 3 * K, "3 per vertex, attribute 'vertices' = " + std::to_string(K));
+  p.output_offset = vector("/mlp/output_offset", 3 * K, "3 per vertex, attribute 'vertices' = " + std::to_string(K));
+
+  Eigen::Index in = 2;
+  for (int i = 0; i < layer_count; ++i) {
+    const std::string w = layerName(i) + "/weight", b = layerName(i) + "/bias";
+    MlpLayer l;
+    l.weight = file.readMatrix(w);
+    if (i + 1 == layer_count && l.weight.rows() != 3 * K)
+      fail("dataset '" + w + "' is " + shape(l.weight) + ": the output layer must have 3K = " + std::to_string(3 * K) +
+           " rows (attribute 'vertices' = " + std::to_string(K) + ")");
+    if (l.weight.cols() != in) {
+      fail("dataset '" + w + "' is " + shape(l.weight) + ", expected (outputs) x " + std::to_string(in) + ": " +
+           (i == 0 ? std::string("the input is (phi, beta)")
+                   : "the previous layer " + layerName(i - 1) + " has " + std::to_string(in) + " outputs"));
+    }
+    l.bias = vector(b, l.weight.rows(), "one per row of '" + w + "'");
+    p.layers.push_back(std::move(l));
+    in = p.layers.back().weight.rows();
+  }
+  if (file.exists(layerName(layer_count)))
+    fail("group '" + layerName(layer_count) + "' exists but attribute 'layers' of '/mlp' is " +
+         std::to_string(layer_count) + " (layers 0.." + std::to_string(layer_count - 1) + " are read)");
+  if (file.exists("/mlp/feature_names")) {
+    const std::vector<std::string> names = file.readStrings("/mlp/feature_names");
+    if (names != std::vector<std::string>{"phi", "beta"})
+      fail("dataset '/mlp/feature_names' must be [\"phi\", \"beta\"]: the MLP contact model takes the signed distance "
+           "and the sagittal leg angle");
+  }
+  if (const std::string problem = mlpParameterProblem(p); !problem.empty()) fail(problem);
+  return out;
+}
+
+void saveMlpModel(const std::string& path, const MlpParameters& p, const PlanarGeometry& geometry) {
+  if (const std::string problem = mlpParameterProblem(p); !problem.empty())
+    throw std::invalid_argument("saveMlpModel(" + path + "): " + problem);
+  if (!(geometry.cutoff_width > 0.0) || !std::isfinite(geometry.cutoff_width) || !std::isfinite(geometry.cutoff) ||
+      !std::isfinite(geometry.torque_centre))
+    throw std::invalid_argument("saveMlpModel(" + path + "): the geometry must be finite with cutoff_width > 0");
+  h5::File file = h5::File::createAtomic(path);
+  file.writeStringAttribute("/", "nmdp_model", "mlp");
+  file.createGroup("/mlp");
+  file.writeDoubleAttribute("/mlp", "format_version", kFormatVersion);
+  file.writeStringAttribute("/mlp", "activation", mlpActivationName(p.activation));
+  file.writeDoubleAttribute("/mlp", "layers", static_cast<double>(p.layers.size()));
+  file.writeDoubleAttribute("/mlp", "vertices", p.vertexCount());
+  file.writeStringAttribute("/mlp", "wrench", "planar");
+  file.writeDoubleAttribute("/mlp", "torque_centre", geometry.torque_centre);
+  file.writeDoubleAttribute("/mlp", "cutoff", geometry.cutoff);
+  file.writeDoubleAttribute("/mlp", "cutoff_width", geometry.cutoff_width);
+  file.writeStringAttribute("/mlp", "units", kUnits);
+  file.writeStrings("/mlp/feature_names", {"phi", "beta"});
+  file.writeVector("/mlp/input_mean", p.input_mean);
+  file.writeVector("/mlp/input_std", p.input_std);
+  file.writeVector("/mlp/output_scale", p.output_scale);
+  file.writeVector("/mlp/output_offset", p.output_offset);
+  for (size_t i = 0; i < p.layers.size(); ++i) {
+    file.createGroup(layerName(i));
+    file.writeMatrix(layerName(i) + "/weight", p.layers[i].weight);
+    file.writeVector(layerName(i) + "/bias", p.layers[i].bias);
+  }
+  file.commit();
+}
+
+void saveMlpModel(const std::string& path, const MlpFunction& function, const PlanarGeometry& geometry) {
+  saveMlpModel(path, function.parameters(), geometry);
+}
+
+}  // namespace nmdp

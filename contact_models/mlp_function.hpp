@@ -1,0 +1,170 @@
+// A small multilayer perceptron as a planar feature function (DESIGN.md §7.3): K planar wrenches
+// (F_x, F_z, τ_y) of the features f = (φ, β), evaluated with libtorch in double precision.
+// PlanarWrenchModel (planar_wrench_model.hpp) places the wrenches in the world; mlp_model.hpp builds
+// one from JSON. libtorch stays inside mlp_function.cpp: this header includes no torch header.
+//
+// The function, for L hidden layers (L ≥ 0) of widths H_1..H_L and the affine layers i = 0..L:
+//
+//     x̂ = (f − input_mean) ⊘ input_std                       (2)
+//     h_0 = x̂,   h_{i+1} = σ(A_i h_i + b_i)   for i < L       (A_i: out_i × in_i, the torch layout)
+//     y = A_L h_L + b_L                                        (3K)
+//     W = output_scale ⊙ y + output_offset                    (3K; vertex j = entries 3j, 3j+1, 3j+2)
+//
+// with a smooth activation σ (the solver needs C¹; ReLU is rejected):
+//   tanh       tanh(x)
+//   softplus   log(1 + eˣ), computed as torch softplus(x, beta = 1, threshold = 36): above 36 it
+//              returns x, which equals log(1 + eˣ) and its slope 1 to double precision (the torch
+//              default threshold 20, e.g. when training in float32, differs by < 2.1e-9)
+//   silu       x / (1 + e⁻ˣ)
+//
+// Evaluation: all rows of a batch go through the network in one pass (torch::addmm with the
+// transposed weight A_iᵀ stored contiguous, which the reference BLAS multiplies ~1.5× faster than
+// the out×in layout of torch::nn::Linear). Without derivatives the pass runs under
+// torch::NoGradGuard (no graph is recorded). dW/dφ and dW/dβ, by one of (MlpJacobian):
+//   * ForwardMode (default): libtorch forward-mode autograd (dual tensors). The input has 2
+//     columns and the output 3K = 78, so the Jacobian is cheapest column by column: the batch is
+//     stacked once per requested direction (block d carries the seed e_d ⊘ input_std) and one
+//     forward pass returns the values and both columns. libtorch 1.13 allows one forward-AD level
+//     per process, so these evaluations are serialized by a mutex private to mlp_function.cpp
+//     (value-only passes and the other schemes still run concurrently).
+//   * DoubleBackward: libtorch reverse-mode autograd on the same stacked batch, twice (the
+//     "double-backward" Jacobian-vector product): g(u) = Jᵀu for a dummy u with the graph kept,
+//     then ∂(g·seed)/∂u = J·seed. Public API, no process-wide state, ~1.2× slower than ForwardMode.
+//   * Tangents: the same forward-mode tangents coded by hand with torch ops (dz = dh A_iᵀ,
+//     dh' = σ'(z) ⊙ dz), the values on B rows and the tangents on D·B rows: no primal rows are
+//     duplicated and no AD bookkeeping runs, ~2× faster than ForwardMode. derivative() then says
+//     Analytic. The tests check it against both autograd schemes and central differences.
+//   Reverse mode with one-hot output seeds would need the batch stacked 3K times (≈ 20× slower
+//   than ForwardMode, measured: 5.4 ms against 0.24 ms for 4 rows), so it is not offered.
+// All schemes return values bit-identical to the value-only pass.
+//
+// Threads and determinism: constructing an MlpFunction calls torch::set_num_threads(1), which is
+// PROCESS-GLOBAL in libtorch (it also affects e.g. a trainer in the same process; a trainer that
+// wants more threads must set them after building its MlpFunctions and reset them to 1 before
+// evaluating). With one thread and the fixed summation order of the BLAS, the same evaluation twice
+// is bit-identical, and each row of a batch is bit-identical to evaluating that row alone (the
+// tests check both; a BLAS whose kernels depend on the number of rows could break the second).
+// evaluate() is const and keeps no scratch, so one function may be shared by several models and
+// threads. libtorch allocates its tensors on every call: the MLP is exempt from the
+// no-allocation-while-stepping rule.
+//
+// ----- File format (HDF5, readable by h5py; never TorchScript: loading executes nothing) ---------
+//   /                        attribute nmdp_model = "mlp"
+//   /mlp                     group; attributes:
+//       format_version       1 (float64)
+//       activation           string: "tanh", "softplus" or "silu"
+//       layers               float64, integer L + 1 ≥ 1: the number of affine layers
+//       vertices             float64, integer K ≥ 1: the output has 3K entries
+//       wrench               string "planar": the output holds (F_x, F_z, τ_y) per vertex
+//       torque_centre        float64, m up the leg from the foot point (PlanarGeometry)
+//       cutoff               float64, m: zero wrench for φ ≥ cutoff
+//       cutoff_width         float64 > 0, m: blending band below the cut-off
+//       units                string, informational ("phi: m, beta: rad; F_x, F_z: N; tau_y: N m")
+//   /mlp/feature_names       (2) strings "phi", "beta" (checked when present)
+//   /mlp/input_mean          (2) float64: mean of (φ, β)
+//   /mlp/input_std           (2) float64 > 0
+//   /mlp/output_scale        (3K) float64
+//   /mlp/output_offset       (3K) float64
+//   /mlp/layer_{i}/weight    out_i × in_i float64 (i = 0..L): in_0 = 2, in_i = out_{i−1}, out_L = 3K
+//   /mlp/layer_{i}/bias      (out_i) float64
+// Every value must be finite. A missing dataset or attribute, a wrong shape, a NaN or inf, an
+// unknown activation (ReLU included), a wrench kind other than "planar" or a newer format_version
+// is an InputError naming the file and the dataset or attribute.
+#pragma once
+#include <Eigen/Dense>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "contact_models/planar_wrench_model.hpp"
+
+namespace nmdp {
+
+enum class MlpActivation { Tanh, Softplus, Silu };
+
+const char* mlpActivationName(MlpActivation activation);  // "tanh", "softplus", "silu"
+// Parses an activation name; false when unknown (ReLU and its kin included: see mlpActivationProblem).
+bool parseMlpActivation(const std::string& name, MlpActivation* activation);
+// Why `name` is not an accepted activation, for messages ("" when it is accepted).
+std::string mlpActivationProblem(const std::string& name);
+
+// One affine layer in the torch layout: y = weight · x + bias.
+struct MlpLayer {
+  Eigen::MatrixXd weight;  // out × in
+  Eigen::VectorXd bias;    // out
+};
+
+// Everything that defines the function: what the file stores, what the trainer fits.
+struct MlpParameters {
+  MlpActivation activation = MlpActivation::Tanh;
+  Eigen::Vector2d input_mean = Eigen::Vector2d::Zero();  // (φ, β)
+  Eigen::Vector2d input_std = Eigen::Vector2d::Ones();   // > 0
+  Eigen::VectorXd output_scale;                          // 3K
+  Eigen::VectorXd output_offset;                         // 3K
+  std::vector<MlpLayer> layers;                          // L hidden layers, then the output layer
+
+  int vertexCount() const;        // K (0 when there are no layers)
+  std::vector<int> sizes() const;  // 2, H_1, ..., H_L, 3K
+};
+
+// "" when `p` is consistent, else what is wrong, naming the dataset of the file format
+// (e.g. "dataset '/mlp/layer_1/weight' is 64 x 32, expected 64 x 64 (...)").
+std::string mlpParameterProblem(const MlpParameters& p);
+
+// A network with the torch default initialization (weights and biases uniform in ±1/√in), identity
+// normalization (mean 0, std 1, scale 1, offset 0). Deterministic for a seed on every platform
+// (std::mt19937 words mapped to [0, 1) by hand, no std::uniform_real_distribution).
+MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, MlpActivation activation,
+                                  std::uint32_t seed);
+
+enum class MlpJacobian { ForwardMode, DoubleBackward, Tangents };
+const char* mlpJacobianName(MlpJacobian jacobian);  // "forward-mode", "double-backward", "tangents"
+bool parseMlpJacobian(const std::string& name, MlpJacobian* jacobian);  // false when unknown
+
+class MlpFunction : public FeatureWrenchFunction {
+ public:
+  // Throws std::invalid_argument when mlpParameterProblem(parameters) is not empty (the file loader
+  // reports the same problems as InputError first). Calls torch::set_num_threads(1) (see above).
+  explicit MlpFunction(MlpParameters parameters, MlpJacobian jacobian = MlpJacobian::ForwardMode);
+  ~MlpFunction() override;
+  MlpFunction(const MlpFunction&) = delete;
+  MlpFunction& operator=(const MlpFunction&) = delete;
+
+  int vertexCount() const override { return params_.vertexCount(); }
+  // Autograd (ForwardMode, DoubleBackward) or Analytic (Tangents).
+  DerivativeSupport derivative() const override {
+    return jacobian_ == MlpJacobian::Tangents ? DerivativeSupport::Analytic : DerivativeSupport::Autograd;
+  }
+  std::string describe() const override;  // e.g. "MLP 2-64-64-78 tanh, 26 vertices"
+  // features: B×2 rows (φ, β); W, dW_dphi, dW_dbeta: B×3K (resized). One network pass per call.
+  void evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
+                Eigen::MatrixXd* dW_dbeta) const override;
+
+  const MlpParameters& parameters() const { return params_; }
+  const std::vector<MlpLayer>& layers() const { return params_.layers; }
+  MlpJacobian jacobian() const { return jacobian_; }
+
+ private:
+  struct Torch;  // the layers as libtorch tensors (mlp_function.cpp)
+  MlpParameters params_;
+  MlpJacobian jacobian_;
+  std::unique_ptr<const Torch> torch_;
+};
+
+struct MlpModelFile {
+  MlpParameters parameters;
+  PlanarGeometry geometry;
+};
+
+// Reads and validates an HDF5 model file (format above). Throws InputError naming the file and the
+// dataset or attribute.
+MlpModelFile loadMlpModel(const std::string& path);
+
+// Writes the HDF5 model file atomically (path + ".partial", renamed on success). Throws
+// std::invalid_argument on inconsistent parameters or a non-positive cutoff_width, InputError when
+// the file cannot be written.
+void saveMlpModel(const std::string& path, const MlpParameters& parameters, const PlanarGeometry& geometry);
+void saveMlpModel(const std::string& path, const MlpFunction& function, const PlanarGeometry& geometry);
+
+}  // namespace nmdp

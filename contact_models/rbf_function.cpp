@@ -1,0 +1,420 @@
+#include "contact_models/rbf_function.hpp"
+
+#include <charconv>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+#include <vector>
+
+#include "io/hdf5_file.hpp"
+#include "io/input_error.hpp"
+
+namespace nmdp {
+
+namespace {
+
+struct KernelName {
+  RbfKernel kernel;
+  const char* name;
+};
+constexpr KernelName kKernelNames[] = {
+    {RbfKernel::ThinPlate, "thin_plate"},
+    {RbfKernel::Gaussian, "gaussian"},
+    {RbfKernel::Multiquadric, "multiquadric"},
+    {RbfKernel::InverseMultiquadric, "inverse_multiquadric"},
+    {RbfKernel::Cubic, "cubic"},
+    {RbfKernel::Linear, "linear"},
+};
+
+constexpr int kFormatVersion = 1;
+constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
+
+std::string shape(const Eigen::MatrixXd& m) { return std::to_string(m.rows()) + "x" + std::to_string(m.cols()); }
+
+// First non-finite entry of m, as "row r, column c" (0-based), or "" when all are finite.
+std::string firstNonFinite(const Eigen::MatrixXd& m) {
+  for (Eigen::Index c = 0; c < m.cols(); ++c)
+    for (Eigen::Index r = 0; r < m.rows(); ++r)
+      if (!std::isfinite(m(r, c))) return "row " + std::to_string(r) + ", column " + std::to_string(c);
+  return "";
+}
+
+}  // namespace
+
+const char* rbfKernelName(RbfKernel kernel) {
+  for (const KernelName& k : kKernelNames)
+    if (k.kernel == kernel) return k.name;
+  return "?";
+}
+
+bool parseRbfKernel(const std::string& name, RbfKernel* kernel) {
+  for (const KernelName& k : kKernelNames) {
+    if (name == k.name) {
+      *kernel = k.kernel;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::string rbfKernelNames() {
+  std::string out;
+  for (const KernelName& k : kKernelNames) out += (out.empty() ? "" : ", ") + std::string(k.name);
+  return out;
+}
+
+void rbfKernel(RbfKernel kernel, double epsilon, double r2, double* kappa, double* g) {
+  switch (kernel) {
+    case RbfKernel::ThinPlate:
+      // κ = ρ² log ρ = ½ r2 log r2;  κ'/ρ = 2 log ρ + 1 = log r2 + 1; at the centre κ = 0 and the
+      // gradient g·S²(f − c) → 0, so g is set to 0 there rather than −∞.
+      if (r2 > 0.0) {
+        const double l = std::log(r2);
+        *kappa = 0.5 * r2 * l;
+        *g = l + 1.0;
+      } else {
+        *kappa = 0.0;
+        *g = 0.0;
+      }
+      return;
+    case RbfKernel::Gaussian: {
+      const double e2 = epsilon * epsilon;
+      *kappa = std::exp(-e2 * r2);
+      *g = -2.0 * e2 * *kappa;
+      return;
+    }
+    case RbfKernel::Multiquadric: {
+      const double e2 = epsilon * epsilon;
+      *kappa = std::sqrt(1.0 + e2 * r2);
+      *g = e2 / *kappa;
+      return;
+    }
+    case RbfKernel::InverseMultiquadric: {
+      const double e2 = epsilon * epsilon;
+      const double k = 1.0 / std::sqrt(1.0 + e2 * r2);
+      *kappa = k;
+      *g = -e2 * k * k * k;
+      return;
+    }
+    case RbfKernel::Cubic: {
+      const double rho = std::sqrt(r2);
+      *kappa = r2 * rho;
+      *g = 3.0 * rho;
+      return;
+    }
+    case RbfKernel::Linear: {
+      // Not differentiable at ρ = 0: the zero subgradient is returned there.
+      const double rho = std::sqrt(r2);
+      *kappa = rho;
+      *g = rho > 0.0 ? 1.0 / rho : 0.0;
+      return;
+    }
+  }
+  *kappa = 0.0;
+  *g = 0.0;
+}
+
+PlanarGeometry publishedRbfGeometry() {
+  PlanarGeometry g;
+  g.torque_centre = 0.1572;
+  g.cutoff = 0.1;
+  g.cutoff_width = 0.02;
+  return g;
+}
+
+RbfFunction::RbfFunction(RbfParameters parameters) : params_(std::move(parameters)) {
+  const RbfParameters& p = params_;
+  const Eigen::Index N = p.centres.rows();
+  if (N < 1) throw std::invalid_argument("RbfFunction: no centres");
+  if (p.weights.rows() != N || p.weights.cols() < 3 || p.weights.cols() % 3 != 0)
+    throw std::invalid_argument("RbfFunction: weights must be N x 3K with N = " + std::to_string(N) + " centres, got " +
+                                shape(p.weights));
+  if (p.polynomial.size() != 0 && (p.polynomial.rows() != 3 || p.polynomial.cols() != p.weights.cols()))
+    throw std::invalid_argument("RbfFunction: the polynomial tail must be 3 x " + std::to_string(p.weights.cols()) +
+                                ", got " + shape(p.polynomial));
+  if (!p.centres.allFinite() || !p.weights.allFinite() || !p.polynomial.allFinite())
+    throw std::invalid_argument("RbfFunction: non-finite centre, weight or polynomial coefficient");
+  if (!(p.spec.scaling.minCoeff() > 0.0) || !p.spec.scaling.allFinite())
+    throw std::invalid_argument("RbfFunction: the feature scaling must be positive");
+  if (!(p.spec.epsilon > 0.0) || !std::isfinite(p.spec.epsilon))
+    throw std::invalid_argument("RbfFunction: epsilon must be positive");
+
+  scaled_centres_ = p.centres * p.spec.scaling.asDiagonal();
+  const Eigen::Index tail = p.polynomial.size() != 0 ? 3 : 0;
+  coefficients_.resize(N + tail, p.weights.cols());
+  coefficients_.topRows(N) = p.weights;
+  if (tail) coefficients_.bottomRows(3) = p.polynomial;
+}
+
+std::string RbfFunction::describe() const {
+  std::ostringstream s;
+  s << "RBF " << rbfKernelName(params_.spec.kernel) << " kernel";
+  if (params_.spec.kernel == RbfKernel::Gaussian || params_.spec.kernel == RbfKernel::Multiquadric ||
+      params_.spec.kernel == RbfKernel::InverseMultiquadric)
+    s << " (epsilon " << params_.spec.epsilon << ")";
+  s << ", " << centreCount() << " centres, " << vertexCount() << " vertices, scaling (" << params_.spec.scaling[0]
+    << ", " << params_.spec.scaling[1] << ")" << (params_.polynomial.size() ? ", linear tail" : "");
+  return s.str();
+}
+
+void RbfFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
+                           Eigen::MatrixXd* dW_dbeta) const {
+  const Eigen::Index B = features.rows();
+  const Eigen::Index N = scaled_centres_.rows();
+  const Eigen::Index M = coefficients_.rows();
+  const Eigen::Index C = coefficients_.cols();
+  const bool derivatives = dW_dphi != nullptr || dW_dbeta != nullptr;
+  const double sphi = params_.spec.scaling[0], sbeta = params_.spec.scaling[1];
+  const double e2 = params_.spec.epsilon * params_.spec.epsilon;
+
+  // Scratch sized by the batch only (not by whether derivatives are asked for), so alternating
+  // calls with and without derivatives do not reallocate.
+  if (dphi_.rows() != N || dphi_.cols() != B) {
+    dphi_.resize(N, B);
+    dbeta_.resize(N, B);
+    r2_.resize(N, B);
+    kappa_.resize(N, B);
+    g_.resize(N, B);
+  }
+  if (basis_.rows() != M || basis_.cols() != 3 * B) basis_.resize(M, 3 * B);
+
+  // Scaled differences S(f_b − c_i), one column per point, and ρ² (vectorized over the centres).
+  for (Eigen::Index b = 0; b < B; ++b) {
+    dphi_.col(b) = sphi * features(b, 0) - scaled_centres_.col(0).array();
+    dbeta_.col(b) = sbeta * features(b, 1) - scaled_centres_.col(1).array();
+  }
+  r2_ = dphi_.square() + dbeta_.square();
+
+  // κ and g = κ'(ρ)/ρ elementwise (the same formulas as rbfKernel()).
+  switch (params_.spec.kernel) {
+    case RbfKernel::ThinPlate:
+      g_ = r2_.log();  // −inf at a centre, masked below
+      kappa_ = (r2_ > 0.0).select(0.5 * r2_ * g_, 0.0);
+      g_ = (r2_ > 0.0).select(g_ + 1.0, 0.0);
+      break;
+    case RbfKernel::Gaussian:
+      kappa_ = (-e2 * r2_).exp();
+      g_ = (-2.0 * e2) * kappa_;
+      break;
+    case RbfKernel::Multiquadric:
+      kappa_ = (1.0 + e2 * r2_).sqrt();
+      g_ = e2 / kappa_;
+      break;
+    case RbfKernel::InverseMultiquadric:
+      kappa_ = (1.0 + e2 * r2_).rsqrt();
+      g_ = -e2 * kappa_.cube();
+      break;
+    case RbfKernel::Cubic:
+      g_ = r2_.sqrt();
+      kappa_ = r2_ * g_;
+      g_ *= 3.0;
+      break;
+    case RbfKernel::Linear:
+      kappa_ = r2_.sqrt();
+      g_ = (r2_ > 0.0).select(kappa_.inverse(), 0.0);  // zero subgradient at a centre
+      break;
+  }
+
+  // Basis columns: [Φᵀ | ∂Φᵀ/∂φ | ∂Φᵀ/∂β], rows = centres (+ the polynomial 1, φ, β).
+  basis_.block(0, 0, N, B) = kappa_.matrix();
+  if (derivatives) {
+    basis_.block(0, B, N, B) = (g_ * sphi * dphi_).matrix();  // ∂κ/∂f = g(ρ) S (S(f − c))
+    basis_.block(0, 2 * B, N, B) = (g_ * sbeta * dbeta_).matrix();
+  }
+  if (M > N) {
+    for (Eigen::Index b = 0; b < B; ++b) {
+      basis_.col(b).tail<3>() << 1.0, features(b, 0), features(b, 1);
+      if (derivatives) {
+        basis_.col(B + b).tail<3>() << 0.0, 1.0, 0.0;
+        basis_.col(2 * B + b).tail<3>() << 0.0, 0.0, 1.0;
+      }
+    }
+  }
+
+  // One matrix product for the values and both derivatives.
+  if (!derivatives) {
+    W.resize(B, C);
+    W.noalias() = basis_.leftCols(B).transpose() * coefficients_;
+    return;
+  }
+  product_.resize(3 * B, C);
+  product_.noalias() = basis_.transpose() * coefficients_;
+  W = product_.topRows(B);
+  if (dW_dphi) *dW_dphi = product_.middleRows(B, B);
+  if (dW_dbeta) *dW_dbeta = product_.bottomRows(B);
+}
+
+// ----- the published text format -------------------------------------------------------------
+
+namespace {
+
+// Reads every non-blank, non-comment line of a text file of `columns` numbers per line.
+// Returns the values row by row; `line_numbers` receives the 1-based physical line of each row.
+std::vector<double> readNumberTable(const std::string& path, int columns, const char* layout,
+                                    std::vector<int>* line_numbers) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!fs::exists(path, ec)) throw InputError(path + ": no such file");
+  if (fs::is_directory(path, ec))
+    throw InputError(path + ": is a folder, expected a text file of '" + layout + "' lines");
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the file");
+  std::vector<double> values;
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    const size_t first = line.find_first_not_of(" \t");
+    if (first == std::string::npos || line[first] == '#') continue;
+    std::istringstream tokens(line);
+    std::string token;
+    int count = 0;
+    while (tokens >> token) {
+      ++count;
+      if (count > columns) break;
+      const char* begin = token.data();
+      const char* end = token.data() + token.size();
+      if (begin != end && *begin == '+') ++begin;
+      double x = 0.0;
+      const auto result = std::from_chars(begin, end, x);
+      if (result.ec != std::errc() || result.ptr != end)
+        throw InputError(path + ":" + std::to_string(number) + ": '" + token + "' is not a number (expected '" +
+                         layout + "')");
+      if (!std::isfinite(x))
+        throw InputError(path + ":" + std::to_string(number) + ": non-finite value '" + token + "'");
+      values.push_back(x);
+    }
+    if (count != columns)
+      throw InputError(path + ":" + std::to_string(number) + ": expected " + std::to_string(columns) + " numbers '" +
+                       layout + "', got " + (count > columns ? "more" : std::to_string(count)));
+    if (line_numbers) line_numbers->push_back(number);
+  }
+  if (in.bad()) throw InputError(path + ": read error");
+  return values;
+}
+
+}  // namespace
+
+RbfParameters readPublishedRbf(const std::string& inputs_path, const std::string& weights_path,
+                               const RbfKernelSpec& spec) {
+  RbfParameters p;
+  p.spec = spec;
+  const std::vector<double> centres = readNumberTable(inputs_path, 2, "depth theta", nullptr);
+  const Eigen::Index N = static_cast<Eigen::Index>(centres.size() / 2);
+  if (N == 0) throw InputError(inputs_path + ": no centres (expected N lines 'depth theta')");
+  const std::vector<double> weights = readNumberTable(weights_path, 3, "fx fz wy", nullptr);
+  const Eigen::Index lines = static_cast<Eigen::Index>(weights.size() / 3);
+  if (lines == 0 || lines % N != 0)
+    throw InputError(weights_path + ": " + std::to_string(lines) + " weight lines is not a positive multiple of the " +
+                     std::to_string(N) + " centres of " + inputs_path +
+                     " (expected K*N lines 'fx fz wy', vertex v and centre i on line v*N + i)");
+  const Eigen::Index K = lines / N;
+  p.centres.resize(N, 2);
+  for (Eigen::Index i = 0; i < N; ++i) {
+    p.centres(i, 0) = centres[2 * i];
+    p.centres(i, 1) = centres[2 * i + 1];
+  }
+  p.weights.resize(N, 3 * K);
+  for (Eigen::Index v = 0; v < K; ++v)
+    for (Eigen::Index i = 0; i < N; ++i)
+      for (int c = 0; c < 3; ++c) p.weights(i, 3 * v + c) = weights[3 * (v * N + i) + c];
+  return p;
+}
+
+// ----- the HDF5 model file -------------------------------------------------------------------
+
+RbfModelFile readRbfHdf5(const std::string& path) {
+  const h5::File file = h5::File::openRead(path);
+  const auto fail = [&](const std::string& what) -> void { throw InputError(path + ": " + what); };
+  if (!file.exists("/rbf"))
+    fail("not an nmdp RBF model file: group '/rbf' is missing (write one with saveRbfModel or 'nmdp fit')");
+
+  if (file.hasAttribute("/rbf", "format_version")) {
+    const double version = file.readDoubleAttribute("/rbf", "format_version");
+    if (!(version >= 1.0 && version <= kFormatVersion))
+      fail("attribute 'format_version' of '/rbf' is " + std::to_string(version) + ", this program reads version " +
+           std::to_string(kFormatVersion));
+  }
+
+  RbfModelFile out;
+  RbfParameters& p = out.parameters;
+  const std::vector<std::string> kernel = file.readStrings("/rbf/kernel");
+  if (kernel.size() != 1 || !parseRbfKernel(kernel[0], &p.spec.kernel))
+    fail("dataset '/rbf/kernel' must hold one kernel name, one of " + rbfKernelNames() + "; got '" +
+         (kernel.empty() ? std::string() : kernel[0]) + "'" + (kernel.size() > 1 ? " and more" : ""));
+  const auto positive = [&](const std::string& name, double fallback, bool required) {
+    if (!required && !file.hasAttribute("/rbf", name)) return fallback;
+    const double x = file.readDoubleAttribute("/rbf", name);
+    if (!(x > 0.0) || !std::isfinite(x)) fail("attribute '" + name + "' of '/rbf' must be a positive number");
+    return x;
+  };
+  const auto finite = [&](const std::string& name) {
+    const double x = file.readDoubleAttribute("/rbf", name);
+    if (!std::isfinite(x)) fail("attribute '" + name + "' of '/rbf' must be a finite number");
+    return x;
+  };
+  p.spec.epsilon = positive("epsilon", 1.0, false);
+  out.geometry.torque_centre = finite("torque_centre");
+  out.geometry.cutoff = finite("cutoff");
+  out.geometry.cutoff_width = positive("cutoff_width", 0.0, true);
+
+  const Eigen::MatrixXd centres = file.readMatrix("/rbf/centres");
+  if (centres.rows() < 1 || centres.cols() != 2)
+    fail("dataset '/rbf/centres' must be N x 2 (phi, beta), got " + shape(centres));
+  if (const std::string bad = firstNonFinite(centres); !bad.empty())
+    fail("dataset '/rbf/centres' has a non-finite value at " + bad);
+  const Eigen::MatrixXd weights = file.readMatrix("/rbf/weights");
+  if (weights.rows() != centres.rows() || weights.cols() < 3 || weights.cols() % 3 != 0)
+    fail("dataset '/rbf/weights' must be N x 3K with N = " + std::to_string(centres.rows()) +
+         " (the rows of '/rbf/centres'), got " + shape(weights));
+  if (const std::string bad = firstNonFinite(weights); !bad.empty())
+    fail("dataset '/rbf/weights' has a non-finite value at " + bad);
+  const Eigen::MatrixXd scaling = file.readMatrix("/rbf/scaling");
+  if (scaling.size() != 2) fail("dataset '/rbf/scaling' must hold 2 numbers (s_phi, s_beta), got " + shape(scaling));
+  if (!(scaling.minCoeff() > 0.0) || !scaling.allFinite())
+    fail("dataset '/rbf/scaling' must hold positive finite numbers");
+  if (file.exists("/rbf/polynomial")) {
+    p.polynomial = file.readMatrix("/rbf/polynomial");
+    if (p.polynomial.rows() != 3 || p.polynomial.cols() != weights.cols())
+      fail("dataset '/rbf/polynomial' must be 3 x " + std::to_string(weights.cols()) + " (rows 1, phi, beta), got " +
+           shape(p.polynomial));
+    if (const std::string bad = firstNonFinite(p.polynomial); !bad.empty())
+      fail("dataset '/rbf/polynomial' has a non-finite value at " + bad);
+  }
+  if (file.exists("/rbf/feature_names")) {
+    const std::vector<std::string> names = file.readStrings("/rbf/feature_names");
+    if (names != std::vector<std::string>{"phi", "beta"})
+      fail(
+          "dataset '/rbf/feature_names' must be [\"phi\", \"beta\"]: the RBF contact model takes the signed distance "
+          "and the sagittal leg angle");
+  }
+  p.centres = centres;
+  p.weights = weights;
+  p.spec.scaling = Eigen::Vector2d(scaling.data()[0], scaling.data()[1]);
+  return out;
+}
+
+void saveRbfModel(const std::string& path, const RbfFunction& function, const PlanarGeometry& geometry) {
+  const RbfParameters& p = function.parameters();
+  h5::File file = h5::File::createAtomic(path);
+  file.writeStringAttribute("/", "nmdp_model", "rbf");
+  file.createGroup("/rbf");
+  file.writeDoubleAttribute("/rbf", "format_version", kFormatVersion);
+  file.writeDoubleAttribute("/rbf", "epsilon", p.spec.epsilon);
+  file.writeDoubleAttribute("/rbf", "torque_centre", geometry.torque_centre);
+  file.writeDoubleAttribute("/rbf", "cutoff", geometry.cutoff);
+  file.writeDoubleAttribute("/rbf", "cutoff_width", geometry.cutoff_width);
+  file.writeStringAttribute("/rbf", "units", kUnits);
+  file.writeMatrix("/rbf/centres", p.centres);
+  file.writeMatrix("/rbf/weights", p.weights);
+  file.writeStrings("/rbf/kernel", {rbfKernelName(p.spec.kernel)});
+  file.writeVector("/rbf/scaling", p.spec.scaling);
+  if (p.polynomial.size() != 0) file.writeMatrix("/rbf/polynomial", p.polynomial);
+  file.writeStrings("/rbf/feature_names", {"phi", "beta"});
+  file.commit();
+}
+
+}  // namespace nmdp

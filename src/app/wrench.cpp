@@ -1,0 +1,150 @@
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.hpp"
+#include "contact_models/registry.hpp"
+#include "io/input_error.hpp"
+#include "terrain/terrain_factory.hpp"
+
+namespace nmdp::app {
+
+const char* const kWrenchHelp =
+    "usage: nmdp wrench --model MODEL [--terrain TERRAIN] [--depth D] [--angle B] [--radius R]\n"
+    "                   [--at X,Y] [--derivatives]\n\n"
+    "Evaluates a contact model for one foot and prints its wrench-space vertices as JSON: V, 6×K,\n"
+    "rows [torque about the sphere centre; force] in the world frame, and with --derivatives dV/dξ\n"
+    "for ξ = [rotation about the sphere centre; translation].\n\n"
+    "  --model MODEL      a JSON object ('{\"type\": \"coulomb\", \"mu\": 0.7}') or a .json file holding one;\n"
+    "                     relative paths inside a file are relative to that file\n"
+    "  --terrain TERRAIN  a JSON object or .json file (default: the plane z = 0)\n"
+    "  --depth D          signed distance of the foot's lowest point to the terrain, m (default -0.02)\n"
+    "  --angle B          leg tilt from the terrain normal in the x-z plane, rad (default 0)\n"
+    "  --radius R         foot sphere radius, m (default 0.02)\n"
+    "  --at X,Y           horizontal position of the foot (default 0,0)\n"
+    "  --derivatives      also print dV/dξ (models without a derivative refuse)\n";
+
+namespace {
+// A JSON object given inline or as a file; the context names where it came from.
+nlohmann::json readJsonArgument(const std::string& option, const std::string& text, ConfigContext& ctx) {
+  const bool inline_json = !text.empty() && text.find_first_not_of(" \t") != std::string::npos &&
+                           text[text.find_first_not_of(" \t")] == '{';
+  if (inline_json) {
+    ctx.where = option;
+    ctx.base_dir = "";
+    try {
+      return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+      throw InputError(option + ": not valid JSON: " + e.what());
+    }
+  }
+  std::ifstream in(text);
+  if (!in) throw InputError(option + " " + text + ": cannot open the file");
+  ctx.where = text;
+  ctx.base_dir = std::filesystem::path(text).parent_path().string();
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(text + ": not valid JSON: " + e.what());
+  }
+}
+
+double parseNumber(const std::string& option, const std::string& text) {
+  try {
+    size_t used = 0;
+    const double v = std::stod(text, &used);
+    if (used == text.size() && std::isfinite(v)) return v;
+  } catch (const std::exception&) {
+  }
+  throw InputError(option + ": '" + text + "' is not a finite number");
+}
+
+nlohmann::json matrixJson(const Mat6X& M) {
+  nlohmann::json cols = nlohmann::json::array();
+  for (int j = 0; j < M.cols(); ++j) cols.push_back({M(0, j), M(1, j), M(2, j), M(3, j), M(4, j), M(5, j)});
+  return cols;
+}
+}  // namespace
+
+int runWrench(const Args& args) {
+  nlohmann::json model_json, terrain_json = nlohmann::json::object();
+  ConfigContext model_ctx, terrain_ctx{"--terrain", ""};
+  bool have_model = false, derivatives = false;
+  double depth = -0.02, angle = 0.0, radius = 0.02, x = 0.0, y = 0.0;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto next = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw InputError(a + " needs a value (see nmdp wrench --help)");
+      return args[++i];
+    };
+    if (a == "--model") {
+      model_json = readJsonArgument(a, next(), model_ctx);
+      have_model = true;
+    } else if (a == "--terrain") {
+      terrain_json = readJsonArgument(a, next(), terrain_ctx);
+    } else if (a == "--depth") {
+      depth = parseNumber(a, next());
+    } else if (a == "--angle") {
+      angle = parseNumber(a, next());
+    } else if (a == "--radius") {
+      radius = parseNumber(a, next());
+      if (radius < 0) throw InputError("--radius: must be >= 0");
+    } else if (a == "--at") {
+      const std::string& v = next();
+      const auto comma = v.find(',');
+      if (comma == std::string::npos) throw InputError("--at expects X,Y, got '" + v + "'");
+      x = parseNumber(a, v.substr(0, comma));
+      y = parseNumber(a, v.substr(comma + 1));
+    } else if (a == "--derivatives") {
+      derivatives = true;
+    } else {
+      throw InputError("unknown argument '" + a + "' (see nmdp wrench --help)");
+    }
+  }
+  if (!have_model) throw InputError("--model is required (see nmdp wrench --help)");
+
+  const ContactModelRegistry registry = ContactModelRegistry::withBuiltins();
+  const std::unique_ptr<ContactModel> model = registry.build(model_json, model_ctx);
+  const std::unique_ptr<Terrain> terrain = makeTerrain(terrain_json, terrain_ctx);
+  if (derivatives && model->derivative() == DerivativeSupport::None)
+    throw InputError("--derivatives: this " + model->describe() + " model has no derivative (zeroth-order methods only)");
+
+  // Place the sphere so that its lowest point is `depth` from the terrain below (x, y).
+  TerrainQuery q;
+  terrain->query(Vec3(x, y, 0.0), q, false);
+  ContactFrame frame;
+  frame.radius = radius;
+  frame.position = Vec3(x, y, 0.0) + (radius + depth - q.distance) * Vec3::UnitZ();
+  terrain->query(frame.position, q, false);
+  frame.position += (radius + depth - q.distance) * q.normal;  // exact on planes, close elsewhere
+  const Vec3 lateral = Vec3::UnitY();
+  const Vec3 forward = lateral.cross(q.normal).normalized();
+  frame.leg_axis = std::cos(angle) * q.normal + std::sin(angle) * forward;
+  frame.lateral = lateral;
+
+  std::vector<ContactFrame> frames{frame};
+  std::vector<ContactWrenches> out(1);
+  out[0].resize(model->vertexCount());
+  model->evaluate(frames, *terrain, out, derivatives);
+
+  nlohmann::ordered_json result;
+  result["model"] = model->describe();
+  result["derivative"] = derivativeSupportName(model->derivative());
+  result["terrain"] = terrain->describe();
+  result["foot"] = {{"centre", {frame.position.x(), frame.position.y(), frame.position.z()}},
+                    {"radius", radius},
+                    {"leg_axis", {frame.leg_axis.x(), frame.leg_axis.y(), frame.leg_axis.z()}}};
+  result["vertices"] = model->vertexCount();
+  result["V"] = matrixJson(out[0].V);
+  if (derivatives) {
+    nlohmann::json dV = nlohmann::json::array();
+    for (const Mat6X& d : out[0].dV) dV.push_back(matrixJson(d));
+    result["dV"] = dV;
+  }
+  std::cout << result.dump(1) << "\n";
+  return 0;
+}
+
+}  // namespace nmdp::app

@@ -1,0 +1,214 @@
+#include "io/hdf5_file.hpp"
+
+#include <hdf5.h>
+
+#include <cstdio>
+#include <filesystem>
+
+#include "io/input_error.hpp"
+
+namespace nmdp::h5 {
+
+namespace {
+// HDF5 prints its own error stack by default; our messages replace it.
+void silenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+struct Handle {  // closes any HDF5 identifier
+  hid_t id;
+  herr_t (*close)(hid_t);
+  ~Handle() {
+    if (id >= 0) close(id);
+  }
+};
+
+[[noreturn]] void fail(const std::string& file, const std::string& what) { throw InputError(file + ": " + what); }
+}  // namespace
+
+File::File(long long id, std::string path, std::string final_path)
+    : id_(id), path_(std::move(path)), final_path_(std::move(final_path)) {}
+
+File::File(File&& other) noexcept : id_(other.id_), path_(std::move(other.path_)), final_path_(std::move(other.final_path_)) {
+  other.id_ = -1;
+  other.final_path_.clear();
+}
+
+File::~File() {
+  if (id_ >= 0) H5Fclose(id_);
+  if (!final_path_.empty()) std::remove(path_.c_str());
+}
+
+File File::openRead(const std::string& path) {
+  silenceHdf5();
+  if (!std::filesystem::exists(path)) fail(path, "no such file");
+  if (H5Fis_hdf5(path.c_str()) <= 0) fail(path, "not an HDF5 file");
+  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (id < 0) fail(path, "cannot open the HDF5 file");
+  return File(id, path, "");
+}
+
+File File::createAtomic(const std::string& path) {
+  silenceHdf5();
+  const std::string partial = path + ".partial";
+  const hid_t id = H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (id < 0) fail(path, "cannot create the file (is the folder writable?)");
+  return File(id, partial, path);
+}
+
+bool File::exists(const std::string& object) const {
+  // Check every prefix: H5Lexists fails on a missing intermediate group.
+  size_t pos = 0;
+  while ((pos = object.find('/', pos + 1)) != std::string::npos) {
+    if (H5Lexists(id_, object.substr(0, pos).c_str(), H5P_DEFAULT) <= 0) return false;
+  }
+  return H5Lexists(id_, object.c_str(), H5P_DEFAULT) > 0;
+}
+
+Eigen::MatrixXd File::readMatrix(const std::string& dataset) const {
+  if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
+  Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
+  if (d.id < 0) fail(path_, "cannot open dataset '" + dataset + "'");
+  Handle space{H5Dget_space(d.id), H5Sclose};
+  const int rank = H5Sget_simple_extent_ndims(space.id);
+  if (rank < 1 || rank > 2) fail(path_, "dataset '" + dataset + "' must be 1-D or 2-D, it has rank " + std::to_string(rank));
+  hsize_t dims[2] = {1, 1};
+  H5Sget_simple_extent_dims(space.id, dims, nullptr);
+  const Eigen::Index rows = static_cast<Eigen::Index>(dims[0]);
+  const Eigen::Index cols = rank == 2 ? static_cast<Eigen::Index>(dims[1]) : 1;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(rows, cols);
+  if (rows * cols > 0 && H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()) < 0)
+    fail(path_, "dataset '" + dataset + "' is not numeric");
+  return m;
+}
+
+std::vector<std::string> File::readStrings(const std::string& dataset) const {
+  if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
+  Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
+  Handle space{H5Dget_space(d.id), H5Sclose};
+  hsize_t n = 0;
+  if (H5Sget_simple_extent_ndims(space.id) != 1) fail(path_, "dataset '" + dataset + "' must be a 1-D list of strings");
+  H5Sget_simple_extent_dims(space.id, &n, nullptr);
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  std::vector<char*> raw(n, nullptr);
+  if (n > 0 && H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0)
+    fail(path_, "dataset '" + dataset + "' is not a list of strings");
+  std::vector<std::string> out;
+  for (char* s : raw) out.emplace_back(s ? s : "");
+  if (n > 0) H5Dvlen_reclaim(type.id, space.id, H5P_DEFAULT, raw.data());
+  return out;
+}
+
+bool File::hasAttribute(const std::string& object, const std::string& name) const {
+  if (object != "/" && !exists(object)) return false;
+  return H5Aexists_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT) > 0;
+}
+
+std::string File::readStringAttribute(const std::string& object, const std::string& name) const {
+  if (!hasAttribute(object, name)) fail(path_, "attribute '" + name + "' of '" + object + "' is missing");
+  Handle a{H5Aopen_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  Handle stored{H5Aget_type(a.id), H5Tclose};
+  if (H5Tget_class(stored.id) != H5T_STRING) fail(path_, "attribute '" + name + "' of '" + object + "' is not a string");
+  if (H5Tis_variable_str(stored.id) > 0) {
+    Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+    H5Tset_size(type.id, H5T_VARIABLE);
+    H5Tset_cset(type.id, H5Tget_cset(stored.id));  // HDF5 will not convert between UTF-8 and ASCII
+    char* value = nullptr;
+    if (H5Aread(a.id, type.id, &value) < 0) fail(path_, "cannot read attribute '" + name + "' of '" + object + "'");
+    std::string out = value ? value : "";
+    H5free_memory(value);
+    return out;
+  }
+  const size_t size = H5Tget_size(stored.id);
+  std::string out(size, '\0');
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, size);
+  H5Tset_cset(type.id, H5Tget_cset(stored.id));
+  if (H5Aread(a.id, type.id, out.data()) < 0) fail(path_, "cannot read attribute '" + name + "' of '" + object + "'");
+  while (!out.empty() && out.back() == '\0') out.pop_back();
+  return out;
+}
+
+double File::readDoubleAttribute(const std::string& object, const std::string& name) const {
+  if (!hasAttribute(object, name)) fail(path_, "attribute '" + name + "' of '" + object + "' is missing");
+  Handle a{H5Aopen_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  Handle stored{H5Aget_type(a.id), H5Tclose};
+  if (H5Tget_class(stored.id) != H5T_FLOAT && H5Tget_class(stored.id) != H5T_INTEGER)
+    fail(path_, "attribute '" + name + "' of '" + object + "' is not a number");
+  double value = 0;
+  if (H5Aread(a.id, H5T_NATIVE_DOUBLE, &value) < 0) fail(path_, "cannot read attribute '" + name + "' of '" + object + "'");
+  return value;
+}
+
+void File::createGroup(const std::string& group) {
+  if (exists(group)) return;
+  Handle g{H5Gcreate2(id_, group.c_str(), H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+  if (g.id < 0) fail(path_, "cannot create group '" + group + "'");
+}
+
+void File::writeMatrix(const std::string& dataset, const Eigen::MatrixXd& m) {
+  const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rm = m;
+  const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
+  Handle space{H5Screate_simple(2, dims, nullptr), H5Sclose};
+  Handle d{H5Dcreate2(id_, dataset.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+  if (d.id < 0 || H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rm.data()) < 0)
+    fail(path_, "cannot write dataset '" + dataset + "'");
+}
+
+void File::writeVector(const std::string& dataset, const Eigen::VectorXd& v) {
+  const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
+  Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
+  Handle d{H5Dcreate2(id_, dataset.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+  if (d.id < 0 || H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
+    fail(path_, "cannot write dataset '" + dataset + "'");
+}
+
+void File::writeStrings(const std::string& dataset, const std::vector<std::string>& values) {
+  const hsize_t dims[1] = {values.size()};
+  Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  std::vector<const char*> raw;
+  for (const std::string& s : values) raw.push_back(s.c_str());
+  Handle d{H5Dcreate2(id_, dataset.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+  if (d.id < 0 || (!raw.empty() && H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0))
+    fail(path_, "cannot write dataset '" + dataset + "'");
+}
+
+void File::writeStringAttribute(const std::string& object, const std::string& name, const std::string& value) {
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  if (hasAttribute(object, name)) H5Adelete_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT);
+  Handle a{H5Acreate_by_name(id_, object.c_str(), name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT),
+           H5Aclose};
+  const char* raw = value.c_str();
+  if (a.id < 0 || H5Awrite(a.id, type.id, &raw) < 0) fail(path_, "cannot write attribute '" + name + "' of '" + object + "'");
+}
+
+void File::writeDoubleAttribute(const std::string& object, const std::string& name, double value) {
+  Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  if (hasAttribute(object, name)) H5Adelete_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT);
+  Handle a{H5Acreate_by_name(id_, object.c_str(), name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT,
+                             H5P_DEFAULT),
+           H5Aclose};
+  if (a.id < 0 || H5Awrite(a.id, H5T_NATIVE_DOUBLE, &value) < 0)
+    fail(path_, "cannot write attribute '" + name + "' of '" + object + "'");
+}
+
+void File::flush() { H5Fflush(id_, H5F_SCOPE_GLOBAL); }
+
+void File::commit() {
+  if (id_ >= 0) H5Fclose(id_);
+  id_ = -1;
+  if (final_path_.empty()) return;
+  std::error_code ec;
+  std::filesystem::rename(path_, final_path_, ec);
+  if (ec) fail(final_path_, "cannot move the finished file into place: " + ec.message());
+  path_ = final_path_;
+  final_path_.clear();
+}
+
+}  // namespace nmdp::h5

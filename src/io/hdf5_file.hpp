@@ -1,0 +1,49 @@
+// A thin RAII layer over the HDF5 C API for the project's files (model files, datasets,
+// trajectories). Matrices are stored row-major as 2-D float64 datasets, readable by h5py.
+// Every failure throws InputError naming the file and the dataset or attribute.
+#pragma once
+#include <Eigen/Dense>
+#include <string>
+#include <vector>
+
+namespace nmdp::h5 {
+
+class File {
+ public:
+  // Opens an existing file for reading.
+  static File openRead(const std::string& path);
+  // Creates `path + ".partial"`; commit() renames it to `path`, so a reader never sees a half-written
+  // file. Destroying an uncommitted file removes the partial file.
+  static File createAtomic(const std::string& path);
+  File(File&& other) noexcept;
+  File& operator=(File&&) = delete;
+  File(const File&) = delete;
+  ~File();
+
+  const std::string& path() const { return path_; }
+  bool exists(const std::string& object) const;  // dataset or group, e.g. "/rbf/centres"
+
+  Eigen::MatrixXd readMatrix(const std::string& dataset) const;   // 1-D datasets come back as a column
+  std::vector<std::string> readStrings(const std::string& dataset) const;
+  std::string readStringAttribute(const std::string& object, const std::string& name) const;
+  double readDoubleAttribute(const std::string& object, const std::string& name) const;
+  bool hasAttribute(const std::string& object, const std::string& name) const;
+
+  void createGroup(const std::string& group);
+  void writeMatrix(const std::string& dataset, const Eigen::MatrixXd& m);
+  void writeVector(const std::string& dataset, const Eigen::VectorXd& v);  // 1-D
+  void writeStrings(const std::string& dataset, const std::vector<std::string>& values);
+  void writeStringAttribute(const std::string& object, const std::string& name, const std::string& value);
+  void writeDoubleAttribute(const std::string& object, const std::string& name, double value);
+
+  void flush();
+  void commit();  // close and move into place (atomic files only)
+
+ private:
+  File(long long id, std::string path, std::string final_path);
+  long long id_ = -1;  // hid_t
+  std::string path_;        // the file being accessed
+  std::string final_path_;  // non-empty for atomic files until commit()
+};
+
+}  // namespace nmdp::h5

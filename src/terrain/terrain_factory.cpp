@@ -1,0 +1,166 @@
+#include "terrain/terrain_factory.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "io/input_error.hpp"
+#include "terrain/heightfield.hpp"
+#include "terrain/plane.hpp"
+#include "terrain/procedural.hpp"
+
+namespace nmdp {
+
+namespace {
+
+const std::vector<std::string> kPlaneKeys = {"type", "normal", "offset"};
+const std::vector<std::string> kHeightfieldKeys = {"type", "file", "origin", "spacing", "offset"};
+const std::vector<std::string> kProceduralKeys = {"type", "slope", "offset", "hills"};
+const std::vector<std::string> kHillKeys = {"centre", "height", "width"};
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+[[noreturn]] void fail(const ConfigContext& ctx, const std::string& key, const std::string& what) {
+  throw InputError(ctx.where + (key.empty() ? "" : "." + key) + ": " + what);
+}
+
+std::string number(double x) {
+  std::ostringstream s;
+  s << x;
+  return s.str();
+}
+
+// Two numbers [a, b]; a single number gives [a, a] when `scalar_both`, [a, scalar_second] otherwise.
+void readPair(const nlohmann::json& object, const std::string& key, const ConfigContext& ctx, bool scalar_both,
+              double scalar_second, double& a, double& b) {
+  if (!object.contains(key)) return;
+  const nlohmann::json& v = object.at(key);
+  if (v.is_number()) {
+    a = readNumber(object, key, a, ctx);
+    b = scalar_both ? a : scalar_second;
+    return;
+  }
+  const std::vector<double> xs = readNumbers(object, key, {}, ctx);
+  if (xs.size() != 2) fail(ctx, key, "expected two numbers [x, y], got " + v.dump());
+  a = xs[0];
+  b = xs[1];
+}
+
+double readSlope(double angle, const nlohmann::json& object, const ConfigContext& ctx) {
+  if (!(std::abs(angle) < 0.5 * M_PI))
+    fail(ctx, "slope",
+         "slope angles are in rad and must lie in (-pi/2, pi/2), got " + object.at("slope").dump() +
+             (std::abs(angle) >= 0.5 * M_PI && std::abs(angle) <= 90.0 ? " (degrees? multiply by pi/180)" : ""));
+  return angle;
+}
+
+std::unique_ptr<Terrain> makePlane(const nlohmann::json& config, const ConfigContext& ctx) {
+  requireKnownKeys(config, kPlaneKeys, ctx);
+  const Vec3 normal = readVec3(config, "normal", Vec3::UnitZ(), ctx);
+  if (!(normal.norm() > 1e-12)) fail(ctx, "normal", "the normal must be a non-zero vector, got " + config.at("normal").dump());
+  const double offset = readNumber(config, "offset", 0.0, ctx);
+  return std::make_unique<PlaneTerrain>(normal, offset);
+}
+
+std::unique_ptr<Terrain> makeHeightfield(const nlohmann::json& config, const ConfigContext& ctx) {
+  requireKnownKeys(config, kHeightfieldKeys, ctx);
+  if (!config.contains("file")) fail(ctx, "file", "missing: a heightfield needs a CSV file of heights");
+  const std::string file = readString(config, "file", "", ctx);
+  if (file.empty()) fail(ctx, "file", "empty file name");
+  if (!config.contains("spacing"))
+    fail(ctx, "spacing", "missing: give the grid spacing [dx, dy] in m (a number for dx = dy)");
+  double dx = 1.0, dy = 1.0, x0 = 0.0, y0 = 0.0;
+  readPair(config, "spacing", ctx, true, 0.0, dx, dy);
+  if (!(dx > 0.0) || !(dy > 0.0))
+    fail(ctx, "spacing", "the grid spacing must be positive, got " + config.at("spacing").dump());
+  if (config.contains("origin") && config.at("origin").is_number())
+    fail(ctx, "origin", "expected two numbers [x0, y0], got " + config.at("origin").dump());
+  readPair(config, "origin", ctx, true, 0.0, x0, y0);
+  const double offset = readNumber(config, "offset", 0.0, ctx);
+
+  HeightGrid grid;
+  const std::string path = ctx.resolve(file);
+  try {
+    grid = readHeightGridCsv(path);
+  } catch (const InputError& e) {
+    fail(ctx, "file", e.what());
+  }
+  grid.x0 = x0;
+  grid.y0 = y0;
+  grid.dx = dx;
+  grid.dy = dy;
+  for (double& z : grid.z) {
+    z += offset;
+    if (!std::isfinite(z)) fail(ctx, "offset", "heights + offset overflow");
+  }
+  return std::make_unique<HeightfieldTerrain>(std::move(grid), file);
+}
+
+std::unique_ptr<Terrain> makeProcedural(const nlohmann::json& config, const ConfigContext& ctx) {
+  requireKnownKeys(config, kProceduralKeys, ctx);
+  double sx = 0.0, sy = 0.0;
+  readPair(config, "slope", ctx, false, 0.0, sx, sy);
+  if (config.contains("slope")) {
+    readSlope(sx, config, ctx);
+    readSlope(sy, config, ctx);
+  }
+  const double offset = readNumber(config, "offset", 0.0, ctx);
+  std::vector<GaussianHill> hills;
+  if (config.contains("hills")) {
+    const nlohmann::json& list = config.at("hills");
+    if (!list.is_array())
+      fail(ctx, "hills", "expected a list of {\"centre\": [x, y], \"height\": h, \"width\": w}, got " + list.dump());
+    for (size_t i = 0; i < list.size(); ++i) {
+      ConfigContext hc = ctx;
+      hc.where = ctx.where + ".hills[" + std::to_string(i) + "]";
+      const nlohmann::json& h = list[i];
+      requireKnownKeys(h, kHillKeys, hc);
+      for (const std::string& key : kHillKeys)
+        if (!h.contains(key)) fail(hc, key, "missing (a hill needs centre [x, y], height and width, in m)");
+      GaussianHill hill;
+      if (h.at("centre").is_number())
+        fail(hc, "centre", "expected two numbers [x, y], got " + h.at("centre").dump());
+      readPair(h, "centre", hc, true, 0.0, hill.cx, hill.cy);
+      hill.height = readNumber(h, "height", 0.0, hc);
+      hill.width = readNumber(h, "width", 1.0, hc);
+      if (!(hill.width > 0.0)) fail(hc, "width", "the width (standard deviation, m) must be positive, got " + number(hill.width));
+      hills.push_back(hill);
+    }
+  }
+  return std::make_unique<ProceduralTerrain>(sx, sy, offset, std::move(hills));
+}
+
+}  // namespace
+
+const std::vector<std::string>& terrainTypes() {
+  static const std::vector<std::string> types = {"plane", "heightfield", "procedural"};
+  return types;
+}
+
+std::unique_ptr<Terrain> makeTerrain(const nlohmann::json& config, const ConfigContext& context) {
+  ConfigContext ctx = context;
+  if (ctx.where.empty()) ctx.where = "terrain";
+  if (config.is_null()) return std::make_unique<PlaneTerrain>();
+  if (!config.is_object()) fail(ctx, "", "expected a JSON object such as {\"type\": \"plane\"}, got " + config.dump());
+  if (!config.contains("type")) {
+    // No type: the default plane, unless the keys given belong to another type.
+    for (auto it = config.begin(); it != config.end(); ++it)
+      if (std::find(kPlaneKeys.begin(), kPlaneKeys.end(), it.key()) == kPlaneKeys.end())
+        fail(ctx, "type", "missing (without it the terrain is a plane, which has no key '" + it.key() +
+                              "'); valid types: " + join(terrainTypes()));
+    return makePlane(config, ctx);
+  }
+  const std::string type = readString(config, "type", "plane", ctx);
+  if (type == "plane") return makePlane(config, ctx);
+  if (type == "heightfield") return makeHeightfield(config, ctx);
+  if (type == "procedural") return makeProcedural(config, ctx);
+  const std::string near = closestMatch(type, terrainTypes());
+  fail(ctx, "type", "unknown terrain type '" + type + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                        "; valid types: " + join(terrainTypes()));
+}
+
+}  // namespace nmdp
