@@ -115,7 +115,7 @@ const std::vector<std::string> kCoulombParameters = {"mu", "K", "k", "p", "zeta"
 namespace {
 // readNumber's ranges are closed; a strictly positive parameter gets its own message.
 double readPositive(const nlohmann::json& params, const std::string& key, double fallback, const ConfigContext& ctx) {
-  const double x = readNumber(params, key, fallback, ctx, 0.0, 1e300);
+  const double x = readNumber(params, key, fallback, ctx);
   if (!(x > 0.0)) throw InputError(ctx.where + "." + key + ": value " + params.at(key).dump() + " must be > 0");
   return x;
 }

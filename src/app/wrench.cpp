@@ -42,7 +42,7 @@ nlohmann::json readJsonArgument(const std::string& option, const std::string& te
   }
   std::ifstream in(text);
   if (!in) throw InputError(option + " " + text + ": cannot open the file");
-  ctx.where = text;
+  ctx.where = text + ": " + option.substr(2);  // e.g. "foot.json: model", then ".mu"
   ctx.base_dir = std::filesystem::path(text).parent_path().string();
   try {
     return nlohmann::json::parse(in);
