@@ -23,7 +23,7 @@ constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
 constexpr double kSoftplusThreshold = 36.0;  // log1p(exp(-36)) < half an ulp of 36: the switch is invisible
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using RowMatrixX2 = Eigen::Matrix<double, Eigen::Dynamic, 2, Eigen::RowMajor>;
+using RowMatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 std::string shape(const Eigen::MatrixXd& m) { return std::to_string(m.rows()) + " x " + std::to_string(m.cols()); }
 
@@ -189,9 +189,20 @@ MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, Ml
 
 // ----- the function --------------------------------------------------------------------------------
 
+// The layers as torch tensors, laid out for few ATen calls per layer (each call costs microseconds of
+// dispatch at these sizes, the arithmetic far less):
+//   * layer 0 reads the input augmented with a column of ones, (x̂_φ, x̂_β, 1), so its bias is the last
+//     row of weight_t[0] and the layer is one torch::mm;
+//   * middle layers are one torch::addmm (bias + h A_iᵀ);
+//   * the last layer is a torch::mm without its bias, which evaluate() adds in Eigen together with the
+//     output scaling (one rounded addition per entry, as in addmm: bit-identical with OpenBLAS here).
+// Every scheme and the value-only pass run this same sequence of operations.
 struct MlpFunction::Torch {
-  std::vector<torch::Tensor> weight_t;  // in × out, contiguous (A_iᵀ)
-  std::vector<torch::Tensor> bias;      // out
+  std::vector<torch::Tensor> weight_t;     // in × out, contiguous (A_iᵀ); layer 0: 3 × out, last row b_0
+  std::vector<torch::Tensor> bias;         // out; undefined for layer 0 and for the last layer
+  std::vector<torch::Tensor> weight_zero;  // zeros like weight_t: forward-mode tangents of the parameters
+  std::vector<torch::Tensor> bias_zero;    // zeros like bias (undefined where bias is)
+  Eigen::RowVectorXd output_bias;          // b_L, added in Eigen (empty when layer 0 is the only layer)
   MlpActivation activation = MlpActivation::Tanh;
 
   torch::Tensor activate(const torch::Tensor& x) const {
@@ -217,10 +228,28 @@ struct MlpFunction::Torch {
     return torch::ones_like(z);
   }
 
-  torch::Tensor forward(torch::Tensor h) const {
+  // Pre-activation of layer i.
+  static torch::Tensor affine(const torch::Tensor& h, const torch::Tensor& weight_t, const torch::Tensor& bias) {
+    return bias.defined() ? torch::addmm(bias, h, weight_t) : torch::mm(h, weight_t);
+  }
+
+  // The network on the augmented input (R × 3), without the output bias. With dual_level ≥ 0 (inside a
+  // forward-AD level, h a dual tensor) the parameters enter as dual tensors with (cached) zero
+  // tangents. Without a tangent, libtorch 1.13's forward formulas (addmm: b_t + h_t A + h A_t) get a
+  // ZeroTensor, whose additions run through the Meta device and a copy and whose products go through a
+  // boxed fallback that materializes the zeros: slower than the real products and sums with zeros
+  // (measured for the 2×64 network, 4 rows: ~85 µs per pass with ZeroTensors, ~63 µs with zero tangents).
+  // The tangents are only read (no in-place op touches them) and ForwardMode runs under its mutex.
+  torch::Tensor forward(torch::Tensor h, int64_t dual_level = -1) const {
     const size_t n = weight_t.size();
     for (size_t i = 0; i < n; ++i) {
-      h = torch::addmm(bias[i], h, weight_t[i]);
+      if (dual_level >= 0) {
+        const torch::Tensor w = at::_make_dual(weight_t[i], weight_zero[i], dual_level);
+        const torch::Tensor b = bias[i].defined() ? at::_make_dual(bias[i], bias_zero[i], dual_level) : bias[i];
+        h = affine(h, w, b);
+      } else {
+        h = affine(h, weight_t[i], bias[i]);
+      }
       if (i + 1 < n) h = activate(h);
     }
     return h;
@@ -235,11 +264,24 @@ MlpFunction::MlpFunction(MlpParameters parameters, MlpJacobian jacobian)
   auto t = std::make_unique<Torch>();
   t->activation = params_.activation;
   const auto options = torch::TensorOptions().dtype(torch::kFloat64);
-  for (const MlpLayer& l : params_.layers) {
+  const size_t n = params_.layers.size();
+  for (size_t i = 0; i < n; ++i) {
+    const MlpLayer& l = params_.layers[i];
     // The column-major out×in weight is, read row-major, its in×out transpose.
-    t->weight_t.push_back(
-        torch::from_blob(const_cast<double*>(l.weight.data()), {l.weight.cols(), l.weight.rows()}, options).clone());
-    t->bias.push_back(torch::from_blob(const_cast<double*>(l.bias.data()), {l.bias.size()}, options).clone());
+    torch::Tensor w =
+        torch::from_blob(const_cast<double*>(l.weight.data()), {l.weight.cols(), l.weight.rows()}, options).clone();
+    torch::Tensor b = torch::from_blob(const_cast<double*>(l.bias.data()), {l.bias.size()}, options).clone();
+    if (i == 0) {
+      w = torch::cat({w, b.unsqueeze(0)}, 0).contiguous();  // (in + 1) × out: the bias as the last row
+      b = torch::Tensor();
+    } else if (i + 1 == n) {
+      t->output_bias = l.bias.transpose();
+      b = torch::Tensor();
+    }
+    t->weight_zero.push_back(torch::zeros_like(w));
+    t->bias_zero.push_back(b.defined() ? torch::zeros_like(b) : torch::Tensor());
+    t->weight_t.push_back(std::move(w));
+    t->bias.push_back(std::move(b));
   }
   torch_ = std::move(t);
 }
@@ -272,48 +314,53 @@ void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
     if (outputs[d]) directions[D++] = d;
   const Eigen::Index R = B * std::max(D, 1);
 
+  // The normalized input augmented with a column of ones (layer 0 holds its bias as a weight row).
   const Eigen::RowVector2d inv_std = params_.input_std.cwiseInverse().transpose();
-  RowMatrixX2 x(R, 2);
-  for (Eigen::Index r = 0; r < R; ++r)
-    x.row(r) = (features.row(r % B) - params_.input_mean.transpose()).cwiseProduct(inv_std);
+  RowMatrixX3 x(R, 3);
+  for (Eigen::Index r = 0; r < R; ++r) {
+    x.block<1, 2>(r, 0) = (features.row(r % B) - params_.input_mean.transpose()).cwiseProduct(inv_std);
+    x(r, 2) = 1.0;
+  }
   const auto options = torch::TensorOptions().dtype(torch::kFloat64);
-  torch::Tensor input = torch::from_blob(x.data(), {R, 2}, options);
+  const torch::Tensor input = torch::from_blob(x.data(), {R, 3}, options);
 
-  const Eigen::RowVectorXd scale = params_.output_scale.transpose();
-  const Eigen::RowVectorXd offset = params_.output_offset.transpose();
-  const auto storeValues = [&](const torch::Tensor& y) {  // first B rows of R×O → W
+  const Torch& t = *torch_;
+  const auto scale = params_.output_scale.transpose().array();
+  const auto offset = params_.output_offset.transpose().array();
+  const auto storeValues = [&](const torch::Tensor& y) {  // first B rows of R×O (without b_L) → W
     const torch::Tensor c = y.contiguous();
     const Eigen::Map<const RowMatrix> Y(c.data_ptr<double>(), y.size(0), O);
-    W = (Y.topRows(B).array().rowwise() * scale.array()).matrix();
-    W.rowwise() += offset;
+    if (t.output_bias.size() > 0)
+      W = (((Y.topRows(B).rowwise() + t.output_bias).array().rowwise() * scale).rowwise() + offset).matrix();
+    else
+      W = ((Y.topRows(B).array().rowwise() * scale).rowwise() + offset).matrix();
   };
-  const auto storeTangents = [&](const torch::Tensor& t) {  // block d of R×O → dW/df_d
-    const torch::Tensor c = t.contiguous();
+  const auto storeTangents = [&](const torch::Tensor& tangent) {  // block k of R×O → dW/df_d
+    const torch::Tensor c = tangent.contiguous();
     const Eigen::Map<const RowMatrix> T(c.data_ptr<double>(), R, O);
-    for (int k = 0; k < D; ++k)
-      *outputs[directions[k]] = (T.middleRows(k * B, B).array().rowwise() * scale.array()).matrix();
+    for (int k = 0; k < D; ++k) *outputs[directions[k]] = (T.middleRows(k * B, B).array().rowwise() * scale).matrix();
   };
 
   if (D == 0) {
     torch::NoGradGuard no_grad;
-    storeValues(torch_->forward(input));
+    storeValues(t.forward(input));
     return;
   }
 
-  // Seeds: block k carries e_d / std_d, so the tangents are derivatives with respect to the raw features.
-  RowMatrixX2 seed = RowMatrixX2::Zero(R, 2);
+  // Seeds: block k carries e_d / std_d, so the tangents are derivatives with respect to the raw
+  // features (the column of ones is constant).
+  RowMatrixX3 seed = RowMatrixX3::Zero(R, 3);
   for (int k = 0; k < D; ++k) seed.block(k * B, directions[k], B, 1).setConstant(inv_std[directions[k]]);
-  torch::Tensor seed_t = torch::from_blob(seed.data(), {R, 2}, options);
+  const torch::Tensor seed_t = torch::from_blob(seed.data(), {R, 3}, options);
 
   if (jacobian_ == MlpJacobian::Tangents) {
     // Values on B rows exactly as in the value-only pass; the D·B tangent rows through the same
     // weights: dz = dh A_iᵀ, dh' = σ'(z) ⊙ dz (σ'(z) broadcast over the D direction blocks).
     torch::NoGradGuard no_grad;
-    const Torch& t = *torch_;
     torch::Tensor h = input.slice(0, 0, B), T = seed_t;
     const size_t n = t.weight_t.size();
     for (size_t i = 0; i < n; ++i) {
-      const torch::Tensor z = torch::addmm(t.bias[i], h, t.weight_t[i]);
+      const torch::Tensor z = Torch::affine(h, t.weight_t[i], t.bias[i]);
       T = torch::mm(T, t.weight_t[i]);
       if (i + 1 == n) {
         h = z;
@@ -331,7 +378,7 @@ void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
     std::lock_guard<std::mutex> lock(forwardModeMutex());
     torch::NoGradGuard no_grad;  // forward-mode AD does not need the reverse graph
     DualLevel level;
-    const torch::Tensor y = torch_->forward(at::_make_dual(input, seed_t, level.index()));
+    const torch::Tensor y = t.forward(at::_make_dual(input, seed_t, level.index()), level.index());
     const auto [primal, tangent] = at::_unpack_dual(y, level.index());
     storeValues(primal);
     storeTangents(tangent);  // copied out before the level (and the tangent with it) is released
@@ -340,10 +387,10 @@ void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
 
   // Double-backward: g(u) = Jᵀu, then ∂(g · seed)/∂u = J seed.
   torch::AutoGradMode grad_mode(true);
-  input.requires_grad_(true);
-  const torch::Tensor y = torch_->forward(input);
+  const torch::Tensor leaf = input.detach().requires_grad_(true);
+  const torch::Tensor y = t.forward(leaf);
   const torch::Tensor u = torch::zeros_like(y).requires_grad_(true);
-  const torch::Tensor g = torch::autograd::grad({y}, {input}, {u}, /*retain_graph=*/true, /*create_graph=*/true)[0];
+  const torch::Tensor g = torch::autograd::grad({y}, {leaf}, {u}, /*retain_graph=*/true, /*create_graph=*/true)[0];
   const torch::Tensor tangent = torch::autograd::grad({g}, {u}, {seed_t})[0];
   torch::NoGradGuard no_grad;
   storeValues(y.detach());

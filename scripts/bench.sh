@@ -1,19 +1,26 @@
 #!/usr/bin/env bash
 # Builds the benchmarks (Release), runs every build/bench/bench_* single-threaded with 5 repetitions
-# and writes the medians to docs/BENCHMARKS.md (with the machine, the compiler and the verdict on
-# the 20 µs one-core target for the NE residual with its θ-Jacobian).
+# and writes the medians to docs/BENCHMARKS.md: the machine (CPU, compiler, -march flags, the BLAS
+# libtorch runs on, load average before, during and after the run), the multibody core with the
+# verdict on the 20 µs one-core target for the NE residual with its θ-Jacobian, and the contact
+# models (bench/bench_contact_models.cpp: V and V+dV/dξ for 4 contacts) with their targets.
 #
 #   scripts/bench.sh                 # all benchmarks
 #   scripts/bench.sh --benchmark_filter=quadruped   # extra arguments go to every benchmark binary
 #
 # Environment: NMDP_BUILD_DIR (default build), NMDP_BENCH_CPU (pin to this CPU with taskset),
 # NMDP_BENCH_REPETITIONS (default 5).
+# A benchmark that was not run (filtered out, or the published RBF model without ../shared) gets a
+# row that says so; a binary that fails stops the script (set -e) before docs/BENCHMARKS.md is written.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$(pwd)
 build_dir=${NMDP_BUILD_DIR:-build}
 repetitions=${NMDP_BENCH_REPETITIONS:-5}
 
+# The source state that is built (taken now: the tree may change while the benchmarks run).
+source_commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
+source_dirty=$(git status --porcelain --untracked-files=no 2>/dev/null | head -c1 || true)
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DNMDP_BUILD_BENCH=ON >/dev/null
 targets=()
 for source in bench/bench_*.cpp; do
@@ -32,7 +39,14 @@ fi
 
 results_dir="$build_dir/bench/results"
 mkdir -p "$results_dir"
+rm -f "$results_dir"/bench_*.json  # no stale results from an earlier run or a removed benchmark
 load_before=$(cut -d' ' -f1-3 /proc/loadavg)
+# Sample the 1-min load average every 2 s while the benchmarks run (how busy the machine was).
+load_samples="$results_dir/loadavg.txt"
+cut -d' ' -f1 /proc/loadavg >"$load_samples"
+( while sleep 2; do cut -d' ' -f1 /proc/loadavg; done ) >>"$load_samples" &
+sampler=$!
+trap 'kill "$sampler" 2>/dev/null || true' EXIT
 json_files=()
 for target in "${targets[@]}"; do
   out="$results_dir/$target.json"
@@ -43,6 +57,13 @@ for target in "${targets[@]}"; do
   json_files+=("$out")
 done
 load_after=$(cut -d' ' -f1-3 /proc/loadavg)
+kill "$sampler" 2>/dev/null || true
+wait "$sampler" 2>/dev/null || true
+trap - EXIT
+cut -d' ' -f1 /proc/loadavg >>"$load_samples"
+load_during=$(awk 'NR == 1 { min = max = $1 } { sum += $1; if ($1 < min) min = $1; if ($1 > max) max = $1 }
+  END { if (NR) printf "%.2f–%.2f (mean %.2f, %d samples)", min, max, sum / NR, NR }' "$load_samples")
+load_max=$(sort -g "$load_samples" | tail -n1)
 
 compiler=$(sed -n 's/^CMAKE_CXX_COMPILER:[A-Z]*=//p' "$build_dir/CMakeCache.txt")
 compiler_version=$("${compiler:-c++}" --version | head -n1)
@@ -50,13 +71,47 @@ flags=$(sed -n 's/^CMAKE_CXX_FLAGS_RELEASE:[A-Z]*=//p' "$build_dir/CMakeCache.tx
 eigen_version=$(sed -n 's/^#define EIGEN_\(WORLD\|MAJOR\|MINOR\)_VERSION \([0-9]*\)/\2/p' \
   /usr/include/eigen3/Eigen/src/Core/util/Macros.h 2>/dev/null | paste -sd. || true)
 cpu_model=$(sed -n 's/^model name[[:space:]]*:[[:space:]]*//p' /proc/cpuinfo | head -n1)
+# The target flags the benchmarks were compiled with (add_compile_options, e.g. NMDP_NATIVE's
+# -march=native -mno-avx512f, are not in CMAKE_CXX_FLAGS_RELEASE) and what -march=native means here.
+target_flags=""
+for target in "${targets[@]}"; do
+  flags_make="$build_dir/bench/CMakeFiles/$target.dir/flags.make"
+  if [ -f "$flags_make" ]; then
+    target_flags=$(sed -n 's/^CXX_FLAGS = //p' "$flags_make" | tr ' ' '\n' | grep -E '^-m' | paste -sd' ' || true)
+    break
+  fi
+done
+native_arch=""
+case " $target_flags " in
+  *" -march=native "*)
+    native_arch=$("${compiler:-c++}" -march=native -Q --help=target 2>/dev/null |
+      sed -n 's/^[[:space:]]*-march=[[:space:]]*//p' | head -n1 || true) ;;
+esac
+# The BLAS libtorch calls (Debian's alternatives link libblas.so.3 to the chosen implementation).
+blas_link=/usr/lib/x86_64-linux-gnu/libblas.so.3
+blas_path=$(readlink -f "$blas_link" 2>/dev/null || true)
+blas_package=""
+if [ -n "$blas_path" ] && [ -e "$blas_path" ]; then
+  blas_package=$(dpkg -S "$blas_path" 2>/dev/null | head -n1 | cut -d: -f1 || true)
+  if [ -n "$blas_package" ]; then
+    blas_package="$blas_package $(dpkg-query -W -f='${Version}' "$blas_package" 2>/dev/null || true)"
+  fi
+else
+  blas_path="not found ($blas_link absent)"
+fi
+rbf_present=""
+[ -e "$root/../shared/granular/robosimian_sand_rbf" ] && rbf_present=1
 
 mkdir -p docs
 NMDP_NPROC=$(nproc) NMDP_CPU="$cpu_model" NMDP_DATE="$(date -u '+%Y-%m-%d %H:%M UTC')" \
 NMDP_COMPILER="$compiler_version" NMDP_FLAGS="$flags" NMDP_EIGEN="${eigen_version:-unknown}" \
 NMDP_LOAD_BEFORE="$load_before" NMDP_LOAD_AFTER="$load_after" NMDP_REPS="$repetitions" \
-NMDP_PIN="${pin[*]:-}" NMDP_COMMIT="$(git rev-parse --short HEAD 2>/dev/null || echo unknown)" \
-NMDP_DIRTY="$(git status --porcelain --untracked-files=no 2>/dev/null | head -c1)" \
+NMDP_LOAD_DURING="$load_during" NMDP_LOAD_MAX="$load_max" \
+NMDP_TARGET_FLAGS="$target_flags" NMDP_NATIVE_ARCH="$native_arch" \
+NMDP_BLAS_PATH="$blas_path" NMDP_BLAS_PACKAGE="$blas_package" \
+NMDP_OPENBLAS_THREADS="${OPENBLAS_NUM_THREADS:-unset}" NMDP_RBF_PRESENT="$rbf_present" \
+NMDP_SOURCES="${targets[*]}" \
+NMDP_PIN="${pin[*]:-}" NMDP_COMMIT="$source_commit" NMDP_DIRTY="$source_dirty" \
 python3 - "${json_files[@]}" >"docs/BENCHMARKS.md" <<'PY'
 import json, os, sys
 from collections import OrderedDict
@@ -79,32 +134,59 @@ DESCRIPTIONS = {
     "PbdEnergyGradHess": "forward kinematics + full PBD ∇E, ∇²E (inertial + gravity, summed)",
 }
 
-rows = OrderedDict()    # kernel -> robot -> dict
+# Contact models (bench/bench_contact_models.cpp): benchmark name, what it is, target for V+dV (ns),
+# and whether it needs ../shared (registered only when ../shared exists).
+CONTACT_FILE = "bench_contact_models"
+CONTACT_MODELS = [
+    ("Coulomb4", "smooth Coulomb cone, K = 6", 1000.0, False),
+    ("RbfPublished4", "published RBF sand model (`../shared/granular/robosimian_sand_rbf`), "
+                      "103 centres × 26 vertices", 20000.0, True),
+    ("Mlp2x64_4", "2×64 tanh MLP, libtorch autograd, K = 26", 100000.0, False),
+]
+
+rows = OrderedDict()    # kernel -> robot -> dict (multibody benchmarks)
 robots = OrderedDict()  # robot -> nq
+contact = OrderedDict() # model -> "V" / "V+dV" -> dict
+contact_ran = False     # bench_contact_models produced a result file
 context = None
+
+def record(entry, b):
+    scale = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[b.get("time_unit", "ns")]
+    agg = b["aggregate_name"]
+    if agg == "cv":
+        entry["cv"] = b["real_time"]  # cv aggregates are ratios, reported in real_time
+    elif agg == "median" or (agg == "single" and "real" not in entry):
+        entry["real"] = b["real_time"] * scale
+        entry["cpu"] = b["cpu_time"] * scale
+    elif agg == "min":
+        entry["real_min"] = b["real_time"] * scale
+        entry["cpu_min"] = b["cpu_time"] * scale
+
 for path in sys.argv[1:]:
-    with open(path) as f:
-        doc = json.load(f)
+    is_contact = os.path.basename(path).startswith(CONTACT_FILE)
+    contact_ran = contact_ran or is_contact
+    try:
+        with open(path) as f:
+            doc = json.load(f)
+    except (OSError, ValueError):
+        continue  # no output: the filter matched nothing in this binary
     context = context or doc.get("context", {})
     for b in doc.get("benchmarks", []):
-        if b.get("run_type") != "aggregate":
+        if b.get("run_type") == "iteration" and "aggregate_name" not in b:
+            b = dict(b, aggregate_name="single")  # one repetition: Google Benchmark reports no aggregates
+        elif b.get("run_type") != "aggregate":
             continue
-        parts = b["run_name"].split("/")
+        parts = b.get("run_name", b["name"]).split("/")
+        if is_contact:
+            variant = parts[1] if len(parts) > 1 else "V"
+            record(contact.setdefault(parts[0], OrderedDict()).setdefault(variant, {}), b)
+            continue
         kernel = parts[0]
         robot = parts[1] if len(parts) > 1 else "-"
         nq = parts[2].split(":")[1] if len(parts) > 2 and parts[2].startswith("nq:") else "?"
         robots.setdefault(robot, nq)
         entry = rows.setdefault(kernel, OrderedDict()).setdefault(robot, {})
-        scale = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[b.get("time_unit", "ns")]
-        agg = b["aggregate_name"]
-        if agg == "cv":
-            entry["cv"] = b["real_time"]  # cv aggregates are ratios, reported in real_time
-        elif agg == "median":
-            entry["real"] = b["real_time"] * scale
-            entry["cpu"] = b["cpu_time"] * scale
-        elif agg == "min":
-            entry["real_min"] = b["real_time"] * scale
-            entry["cpu_min"] = b["cpu_time"] * scale
+        record(entry, b)
 
 def fmt(ns):
     return f"{ns:,.0f}" if ns is not None else "—"
@@ -113,7 +195,8 @@ env = os.environ
 out = []
 out.append("# Benchmarks")
 out.append("")
-out.append("Generated by `scripts/bench.sh` (do not edit by hand). Source: `bench/bench_multibody.cpp`.")
+sources = ", ".join(f"`bench/{t}.cpp`" for t in env.get("NMDP_SOURCES", "bench_multibody").split())
+out.append(f"Generated by `scripts/bench.sh` (do not edit by hand). Sources: {sources}.")
 out.append("")
 out.append("## Machine")
 out.append("")
@@ -121,9 +204,18 @@ out.append(f"- date: {env['NMDP_DATE']}")
 out.append(f"- CPU: {env['NMDP_CPU']} — `nproc` = {env['NMDP_NPROC']}"
            + (f", {context.get('mhz_per_cpu')} MHz" if context and context.get('mhz_per_cpu') else ""))
 out.append(f"- compiler: {env['NMDP_COMPILER']}, flags `{env['NMDP_FLAGS']}` (CMake Release), Eigen {env['NMDP_EIGEN']}")
+if env.get("NMDP_TARGET_FLAGS"):
+    native = f" (`-march=native` = `{env['NMDP_NATIVE_ARCH']}` here)" if env.get("NMDP_NATIVE_ARCH") else ""
+    out.append(f"- target flags: `{env['NMDP_TARGET_FLAGS']}`{native}")
+else:
+    out.append("- target flags: none (`NMDP_NATIVE=OFF`: generic x86-64)")
+blas_pkg = f" (package {env['NMDP_BLAS_PACKAGE']})" if env.get("NMDP_BLAS_PACKAGE") else ""
+out.append(f"- BLAS used by libtorch: `libblas.so.3` → `{env['NMDP_BLAS_PATH']}`{blas_pkg}; "
+           f"libtorch intra-op threads set to 1 by the MLP, `OPENBLAS_NUM_THREADS` {env['NMDP_OPENBLAS_THREADS']}")
 commit = env["NMDP_COMMIT"] + (" + uncommitted changes to tracked files" if env.get("NMDP_DIRTY") else "")
 out.append(f"- source: commit {commit}")
-out.append(f"- load average (1, 5, 15 min) before: {env['NMDP_LOAD_BEFORE']}, after: {env['NMDP_LOAD_AFTER']}")
+out.append(f"- load average (1, 5, 15 min) before: {env['NMDP_LOAD_BEFORE']}, after: {env['NMDP_LOAD_AFTER']}"
+           + (f"; 1-min load during the run (every 2 s): {env['NMDP_LOAD_DURING']}" if env.get("NMDP_LOAD_DURING") else ""))
 if context and context.get("library_build_type") == "debug":
     out.append("- the distribution's Google Benchmark library reports itself as a debug build; this affects"
                " only the harness, the measured code is built Release")
@@ -149,6 +241,10 @@ def table(key, title):
     names = list(robots)
     out.append(f"## {title}")
     out.append("")
+    if not names:
+        out.append("No multibody benchmark in this run (filtered out).")
+        out.append("")
+        return
     out.append("| benchmark | " + " | ".join(f"{r} (n={robots[r]})" for r in names) + " | what |")
     out.append("|---|" + "---:|" * len(names) + "---|")
     for kernel, per_robot in rows.items():
@@ -188,6 +284,10 @@ out.append("The analytic ∂τ/∂q, ∂τ/∂q̇ also return H (which finite di
            "calls for) and are exact to round-off.")
 out.append("")
 
+# The machine counts as shared when the 1-min load average reached nproc − ½ before, during or after.
+busy = max(float(env[k].split()[0]) for k in ("NMDP_LOAD_BEFORE", "NMDP_LOAD_AFTER", "NMDP_LOAD_MAX")
+           if env.get(k)) > float(env["NMDP_NPROC"]) - 0.5
+
 # The target.
 out.append("## Target: the NE residual with its θ-Jacobian in 20 µs on one core")
 out.append("")
@@ -202,8 +302,6 @@ else:
                f"G(θ) = RNEA(θ, θ̇, θ̈) − Σ J_cᵀ f_c and the complete ∂G/∂θ of DESIGN.md 2.1 for a fixed "
                f"wrench per foot) ≤ {TARGET_NS / 1000:.0f} µs per call on one core.")
     out.append("")
-    busy = float(env["NMDP_LOAD_AFTER"].split()[0]) > float(env["NMDP_NPROC"]) - 0.5 or \
-        float(env["NMDP_LOAD_BEFORE"].split()[0]) > float(env["NMDP_NPROC"]) - 0.5
     if busy:
         out.append(f"The machine was shared during this run (load average ≥ {env['NMDP_NPROC']} − ½): the "
                    "wall-clock time includes time the thread waited for a core, so the **CPU time is the "
@@ -224,6 +322,74 @@ else:
                 parts.append(f"`{k}` {v / 1000:.1f} µs")
         out.append("Where the time goes (median CPU time on the quadruped): " + ", ".join(parts) + ".")
         out.append("")
+# Contact models.
+def us(ns):
+    if ns is None:
+        return "—"
+    v = ns / 1000
+    return f"{v:.2f}" if v < 10 else f"{v:.1f}" if v < 1000 else f"{v:,.0f}"
+
+out.append("## Contact models (4 contacts, one core)")
+out.append("")
+out.append("`bench/bench_contact_models.cpp`: one `ContactModel::evaluate` call for the 4 feet of a quadruped "
+           "standing a few mm deep on a plane, legs slightly tilted, outputs preallocated: **V** is the "
+           "wrench at the contact vertices alone, **V+dV** adds its derivatives dV/dξ. Same method as "
+           f"above (one thread, {env['NMDP_REPS']} repetitions, medians); times in **µs**, the coefficient of "
+           "variation of the wall-clock time in parentheses when it exceeds 5 %. The targets are on V+dV.")
+out.append("")
+if busy:
+    out.append(f"The machine was shared during this run (load average ≥ {env['NMDP_NPROC']} − ½): judge the "
+               "targets by the **CPU time**; the wall-clock time includes time the thread waited for a core.")
+    out.append("")
+out.append("| model | V wall | V CPU | V+dV wall | V+dV CPU | target (V+dV) | met? | what |")
+out.append("|---|---:|---:|---:|---:|---:|---|---|")
+
+def cell_us(e, key):
+    if not e or key not in e:
+        return "—"
+    c = us(e[key])
+    if key == "real" and e.get("cv", 0) > 0.05:
+        c += f" ({100 * e['cv']:.0f} %)"
+    return c
+
+def times(r):
+    s = f"{r:.2f}"
+    return (f"{r:.3f}" if s == "1.00" else s) + "×"  # 0.995× and 1.004× do not both read 1.00×
+
+def verdict(e, target):
+    if not e or "real" not in e or target is None:
+        return "—"
+    cpu_ok, real_ok = e["cpu"] < target, e["real"] < target
+    if cpu_ok and real_ok:
+        return f"**met** ({times(e['cpu'] / target)} the budget)"
+    if cpu_ok:
+        return f"**met** on CPU time ({times(e['cpu'] / target)}), not on wall-clock ({times(e['real'] / target)})"
+    return f"**NOT met** ({times(e['cpu'] / target)} the budget on CPU time)"
+
+known = [m[0] for m in CONTACT_MODELS]
+models = list(CONTACT_MODELS) + [(name, "", None, False) for name in contact if name not in known]
+for name, what, target, needs_shared in models:
+    target_cell = f"< {target / 1000:g} µs" if target else "—"
+    per = contact.get(name)
+    if not per:
+        if needs_shared and not env.get("NMDP_RBF_PRESENT"):
+            reason = "skipped (../shared absent)"
+        elif not contact_ran:
+            reason = "not measured (`bench_contact_models` not run)"
+        else:
+            reason = "not measured (filtered out)"
+        out.append(f"| {name} | {reason} | | | | {target_cell} | — | {what} |")
+        continue
+    v, dv = per.get("V"), per.get("V+dV")
+    out.append(f"| {name} | {cell_us(v, 'real')} | {cell_us(v, 'cpu')} | {cell_us(dv, 'real')} | "
+               f"{cell_us(dv, 'cpu')} | {target_cell} | {verdict(dv, target)} | {what} |")
+out.append("")
+fastest = [f"{name} {us(per['V+dV']['real_min'])} µs wall / {us(per['V+dV']['cpu_min'])} µs CPU"
+           for name, per in contact.items() if "real_min" in per.get("V+dV", {})]
+if fastest:
+    out.append(f"Fastest of the {env['NMDP_REPS']} repetitions of V+dV (the least disturbed one): "
+               + "; ".join(fastest) + ".")
+    out.append("")
 print("\n".join(out))
 PY
 echo "wrote docs/BENCHMARKS.md" >&2
