@@ -1,0 +1,539 @@
+// The capped-simplex QP of the PGM (DESIGN.md 3): KKT conditions on random problems, brute force on
+// tiny problems, warm start, no allocation after warm-up, degenerate cases.
+//
+// Allocation counting: as in test_no_allocation.cpp, the global operator new family is replaced and
+// on glibc the malloc family is interposed; both count only while `g_counting` is set.
+#include <atomic>
+#include <chrono>
+#include <cstdlib>
+#include <iostream>
+#include <new>
+
+#include "solver/capped_simplex_qp.hpp"
+#include "test_support.hpp"
+
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_new_calls{0};
+std::atomic<long> g_malloc_calls{0};
+
+inline void noteNew() {
+  if (g_counting.load(std::memory_order_relaxed)) g_new_calls.fetch_add(1, std::memory_order_relaxed);
+}
+inline void noteMalloc() {
+  if (g_counting.load(std::memory_order_relaxed)) g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
+}
+void* countedNew(std::size_t size) {
+  noteNew();
+  if (size == 0) size = 1;
+  if (void* p = std::malloc(size)) return p;
+  throw std::bad_alloc();
+}
+void* countedAlignedNew(std::size_t size, std::size_t alignment) {
+  noteNew();
+  if (size == 0) size = 1;
+  void* p = nullptr;
+  if (alignment < sizeof(void*)) alignment = sizeof(void*);
+  if (posix_memalign(&p, alignment, size) != 0) throw std::bad_alloc();
+  return p;
+}
+}  // namespace
+
+void* operator new(std::size_t size) { return countedNew(size); }
+void* operator new[](std::size_t size) { return countedNew(size); }
+void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return countedNew(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
+  try {
+    return countedNew(size);
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new(std::size_t size, std::align_val_t al) { return countedAlignedNew(size, static_cast<std::size_t>(al)); }
+void* operator new[](std::size_t size, std::align_val_t al) { return countedAlignedNew(size, static_cast<std::size_t>(al)); }
+void* operator new(std::size_t size, std::align_val_t al, const std::nothrow_t&) noexcept {
+  try {
+    return countedAlignedNew(size, static_cast<std::size_t>(al));
+  } catch (...) {
+    return nullptr;
+  }
+}
+void* operator new[](std::size_t size, std::align_val_t al, const std::nothrow_t&) noexcept {
+  try {
+    return countedAlignedNew(size, static_cast<std::size_t>(al));
+  } catch (...) {
+    return nullptr;
+  }
+}
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+
+#if defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
+#define NMDP_SANITIZED 1
+#endif
+#endif
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+#define NMDP_SANITIZED 1
+#endif
+#if defined(__GLIBC__) && !defined(NMDP_SANITIZED)
+#define NMDP_COUNTS_MALLOC 1
+extern "C" {
+void* __libc_malloc(std::size_t);
+void* __libc_calloc(std::size_t, std::size_t);
+void* __libc_realloc(void*, std::size_t);
+void* __libc_memalign(std::size_t, std::size_t);
+void __libc_free(void*);
+
+void* malloc(std::size_t size) {
+  noteMalloc();
+  return __libc_malloc(size);
+}
+void* calloc(std::size_t n, std::size_t size) {
+  noteMalloc();
+  return __libc_calloc(n, size);
+}
+void* realloc(void* p, std::size_t size) {
+  noteMalloc();
+  return __libc_realloc(p, size);
+}
+void free(void* p) { __libc_free(p); }
+void* memalign(std::size_t alignment, std::size_t size) {
+  noteMalloc();
+  return __libc_memalign(alignment, size);
+}
+void* aligned_alloc(std::size_t alignment, std::size_t size) {
+  noteMalloc();
+  return __libc_memalign(alignment, size);
+}
+int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
+  noteMalloc();
+  if (alignment < sizeof(void*) || (alignment & (alignment - 1)) != 0) return 22;  // EINVAL
+  void* p = __libc_memalign(alignment, size);
+  if (!p) return 12;  // ENOMEM
+  *out = p;
+  return 0;
+}
+}
+#else
+#define NMDP_COUNTS_MALLOC 0
+#endif
+
+namespace nmdp::test {
+namespace {
+
+struct Problem {
+  std::vector<int> sizes;
+  Eigen::MatrixXd Q;
+  double beta = 1.0;
+  Eigen::VectorXd g, w;
+  int n() const { return static_cast<int>(g.size()); }
+};
+
+double logUniform(std::mt19937& rng, double lo, double hi) {
+  std::uniform_real_distribution<double> u(std::log(lo), std::log(hi));
+  return std::exp(u(rng));
+}
+
+// A random feasible w for one contact: zero, a vertex, on the cap, interior, or sparse interior.
+void randomFeasibleBlock(std::mt19937& rng, Eigen::Ref<Eigen::VectorXd> wc) {
+  std::uniform_int_distribution<int> kind(0, 4);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  const int K = static_cast<int>(wc.size());
+  wc.setZero();
+  switch (kind(rng)) {
+    case 0: break;
+    case 1: wc[std::uniform_int_distribution<int>(0, K - 1)(rng)] = 1.0; break;
+    case 2:
+      for (int i = 0; i < K; ++i) wc[i] = u(rng);
+      wc /= wc.sum();
+      break;
+    case 3:
+      for (int i = 0; i < K; ++i) wc[i] = u(rng);
+      wc *= u(rng) / wc.sum();
+      break;
+    default:
+      for (int i = 0; i < K; ++i) wc[i] = u(rng) < 0.5 ? 0.0 : u(rng);
+      if (wc.sum() > 0) wc *= u(rng) / wc.sum();
+  }
+}
+
+Problem randomProblem(std::mt19937& rng, const std::vector<int>& sizes, double beta_lo, double beta_hi) {
+  Problem p;
+  p.sizes = sizes;
+  int n = 0;
+  for (int K : sizes) n += K;
+  std::uniform_int_distribution<int> rows(1, n + 6);
+  const int m = rows(rng);
+  const Eigen::MatrixXd A = randomVector(rng, m * n, 1.0).reshaped(m, n);
+  p.Q = logUniform(rng, 1e-2, 1e2) * A.transpose() * A;
+  p.Q = 0.5 * (p.Q + p.Q.transpose()).eval();
+  p.beta = logUniform(rng, beta_lo, beta_hi);
+  // gradient: random, with a shift that pushes toward the caps (negative), the bounds (positive) or
+  // a small gradient relative to the curvature (interior solutions)
+  const double gscale = logUniform(rng, 1e-3, 1e3);
+  p.g = randomVector(rng, n, gscale);
+  std::uniform_int_distribution<int> shift(0, 3);
+  switch (shift(rng)) {
+    case 0: p.g.array() -= 2 * gscale; break;
+    case 1: p.g.array() += 0.5 * gscale; break;
+    case 2: p.g *= 1e-6 * (p.beta + 1.0) / gscale; break;
+    default: break;
+  }
+  p.w.setZero(n);
+  int offset = 0;
+  for (int K : sizes) {
+    randomFeasibleBlock(rng, p.w.segment(offset, K));
+    offset += K;
+  }
+  return p;
+}
+
+std::vector<int> randomSizes(std::mt19937& rng) {
+  std::uniform_int_distribution<int> contacts(1, 4), K(3, 26);
+  std::vector<int> sizes(contacts(rng));
+  for (int& s : sizes) s = K(rng);
+  return sizes;
+}
+
+double objective(const Problem& p, const Eigen::VectorXd& dw) {
+  return p.g.dot(dw) + 0.5 * dw.dot(p.Q * dw) + 0.5 * p.beta * dw.squaredNorm();
+}
+
+double kkt(const Problem& p, const CappedSimplexQp& qp, const Eigen::VectorXd& dw) {
+  return kktResidual(p.Q, p.beta, p.g, p.w, p.sizes, dw, qp.boundMultipliers(), qp.capMultipliers());
+}
+
+// Brute force: every working set (each variable fixed at 0 or free, each cap active or not); the
+// equality-constrained minimizer of each by a dense KKT solve; the lowest objective among the feasible.
+Eigen::VectorXd bruteForce(const Problem& p) {
+  const int n = p.n();
+  const int C = static_cast<int>(p.sizes.size());
+  Eigen::MatrixXd H = p.Q;
+  H.diagonal().array() += p.beta;
+  const Eigen::VectorXd c = p.g - H * p.w;
+  std::vector<int> contact_of;
+  for (int k = 0; k < C; ++k)
+    for (int i = 0; i < p.sizes[k]; ++i) contact_of.push_back(k);
+  double best = std::numeric_limits<double>::infinity();
+  Eigen::VectorXd best_z = Eigen::VectorXd::Constant(n, std::nan(""));
+  for (long mask = 0; mask < (1L << (n + C)); ++mask) {
+    std::vector<int> free, caps;
+    for (int i = 0; i < n; ++i)
+      if (!(mask >> i & 1)) free.push_back(i);
+    for (int k = 0; k < C; ++k)
+      if (mask >> (n + k) & 1) caps.push_back(k);
+    const int kf = static_cast<int>(free.size()), m = static_cast<int>(caps.size());
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(kf + m, kf + m);
+    Eigen::VectorXd rhs(kf + m);
+    for (int a = 0; a < kf; ++a) {
+      for (int b = 0; b < kf; ++b) K(a, b) = H(free[a], free[b]);
+      rhs[a] = -c[free[a]];
+      for (int j = 0; j < m; ++j)
+        if (contact_of[free[a]] == caps[j]) K(a, kf + j) = K(kf + j, a) = 1.0;
+    }
+    for (int j = 0; j < m; ++j) rhs[kf + j] = 1.0;
+    Eigen::VectorXd z = Eigen::VectorXd::Zero(n);
+    if (kf + m > 0) {
+      Eigen::FullPivLU<Eigen::MatrixXd> lu(K);
+      if (!lu.isInvertible()) continue;
+      const Eigen::VectorXd x = lu.solve(rhs);
+      for (int a = 0; a < kf; ++a) z[free[a]] = x[a];
+    }
+    bool feasible = true;
+    int offset = 0;
+    for (int k = 0; k < C; ++k) {
+      if (z.segment(offset, p.sizes[k]).sum() > 1.0 + 1e-12) feasible = false;
+      offset += p.sizes[k];
+    }
+    if (z.minCoeff() < -1e-12 || !feasible) continue;
+    const double f = 0.5 * z.dot(H * z) + c.dot(z);
+    if (f < best) {
+      best = f;
+      best_z = z;
+    }
+  }
+  return best_z - p.w;
+}
+
+TEST(CappedSimplexQp, KktOnRandomProblems) {
+  std::mt19937 rng(12345);
+  int with_caps = 0, with_bounds = 0, interior = 0, total_iterations = 0, total_factorizations = 0;
+  double worst = 0;
+  const int N = 600;
+  for (int trial = 0; trial < N; ++trial) {
+    const Problem p = randomProblem(rng, randomSizes(rng), 1e-4, 1e6);
+    CappedSimplexQp qp(p.sizes);
+    Eigen::VectorXd dw(p.n());
+    const QpResult r = qp.solve(p.Q, p.beta, p.g, p.w, dw);
+    ASSERT_EQ(r.status, QpStatus::Converged) << "trial " << trial << ": " << toString(r.status);
+    const double res = kkt(p, qp, dw);
+    EXPECT_LT(res, 1e-10) << "trial " << trial << " beta " << p.beta;
+    worst = std::max(worst, res);
+    total_iterations += r.iterations;
+    total_factorizations += r.factorizations;
+    bool any_cap = false, any_bound = false;
+    for (auto b : qp.activeSet().cap) any_cap = any_cap || b;
+    for (auto b : qp.activeSet().at_bound) any_bound = any_bound || b;
+    with_caps += any_cap;
+    with_bounds += any_bound;
+    interior += !any_cap && !any_bound;
+  }
+  EXPECT_GT(with_caps, N / 10);
+  EXPECT_GT(with_bounds, N / 10);
+  EXPECT_GT(interior, N / 50);
+  std::cout << "[ qp ] " << N << " problems: " << with_caps << " with caps active, " << with_bounds
+            << " with bounds active, " << interior << " interior; mean iterations "
+            << double(total_iterations) / N << " (" << double(total_factorizations) / N
+            << " factorizations from scratch); worst KKT residual " << worst << "\n";
+}
+
+TEST(CappedSimplexQp, MatchesBruteForceOnSmallProblems) {
+  std::mt19937 rng(777);
+  const std::vector<std::vector<int>> shapes = {{4, 4}, {3, 5}, {8}, {3, 3}, {3}, {5, 3}};
+  int agreements = 0;
+  for (int trial = 0; trial < 240; ++trial) {
+    const Problem p = randomProblem(rng, shapes[trial % shapes.size()], 1e-3, 1e4);
+    CappedSimplexQp qp(p.sizes);
+    Eigen::VectorXd dw(p.n());
+    const QpResult r = qp.solve(p.Q, p.beta, p.g, p.w, dw);
+    ASSERT_EQ(r.status, QpStatus::Converged);
+    const Eigen::VectorXd ref = bruteForce(p);
+    ASSERT_TRUE(ref.allFinite());
+    const double scale = std::max(1.0, ref.cwiseAbs().maxCoeff());
+    EXPECT_LT((dw - ref).cwiseAbs().maxCoeff() / scale, 1e-10) << "trial " << trial;
+    EXPECT_LE(objective(p, dw), objective(p, ref) + 1e-12 * std::max(1.0, std::abs(objective(p, ref))));
+    agreements += (dw - ref).cwiseAbs().maxCoeff() / scale < 1e-10;
+  }
+  EXPECT_EQ(agreements, 240);
+}
+
+TEST(CappedSimplexQp, WarmStartReusesTheActiveSet) {
+  std::mt19937 rng(4242);
+  long cold_total = 0, warm_total = 0;
+  int warm_used = 0;
+  const int N = 200;
+  for (int trial = 0; trial < N; ++trial) {
+    const Problem p = randomProblem(rng, randomSizes(rng), 1e-2, 1e4);
+    CappedSimplexQp qp(p.sizes);
+    Eigen::VectorXd dw(p.n());
+    ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
+    const QpActiveSet previous = qp.activeSet();
+    // a slightly perturbed problem (same w, slightly different Q and g)
+    Problem next = p;
+    next.Q *= 1.0 + 1e-7;
+    next.g += randomVector(rng, p.n(), 1e-9 * (1.0 + p.g.cwiseAbs().maxCoeff()));
+    Eigen::VectorXd dw_cold(p.n()), dw_warm(p.n());
+    const QpResult cold = qp.solve(next.Q, next.beta, next.g, next.w, dw_cold);
+    const double kkt_cold = kkt(next, qp, dw_cold);
+    const QpResult warm = qp.solve(next.Q, next.beta, next.g, next.w, dw_warm, &previous);
+    ASSERT_EQ(cold.status, QpStatus::Converged);
+    ASSERT_EQ(warm.status, QpStatus::Converged);
+    EXPECT_LT(kkt_cold, 1e-10);
+    EXPECT_LT(kkt(next, qp, dw_warm), 1e-10);
+    EXPECT_LT((dw_cold - dw_warm).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, dw_cold.cwiseAbs().maxCoeff()));
+    EXPECT_LE(warm.iterations, cold.iterations) << "trial " << trial;
+    cold_total += cold.iterations;
+    warm_total += warm.iterations;
+    warm_used += warm.warm_start_used;
+  }
+  EXPECT_LT(warm_total, cold_total);
+  EXPECT_GT(warm_used, N * 9 / 10);
+  std::cout << "[ qp ] warm start: " << warm_total << " iterations vs " << cold_total << " cold over " << N
+            << " problems; warm active set used in " << warm_used << "\n";
+}
+
+// The same problem with the previous active set on the *same* w (a rejected PGM step: β changes).
+TEST(CappedSimplexQp, WarmStartAfterBetaChange) {
+  std::mt19937 rng(99);
+  for (int trial = 0; trial < 100; ++trial) {
+    const Problem p = randomProblem(rng, randomSizes(rng), 1e-2, 1e4);
+    CappedSimplexQp qp(p.sizes);
+    Eigen::VectorXd dw(p.n()), dw_cold(p.n()), dw_warm(p.n());
+    ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
+    const QpActiveSet previous = qp.activeSet();
+    const double beta = p.beta * 1.5;
+    ASSERT_EQ(qp.solve(p.Q, beta, p.g, p.w, dw_cold).status, QpStatus::Converged);
+    ASSERT_EQ(qp.solve(p.Q, beta, p.g, p.w, dw_warm, &previous).status, QpStatus::Converged);
+    Problem q = p;
+    q.beta = beta;
+    EXPECT_LT(kkt(q, qp, dw_warm), 1e-10);
+    EXPECT_LT((dw_cold - dw_warm).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, dw_cold.cwiseAbs().maxCoeff()));
+  }
+}
+
+struct AllocationCount {
+  long news = 0, mallocs = 0;
+  long total() const { return news + mallocs; }
+};
+template <class F>
+AllocationCount allocationsOf(F&& f) {
+  f();
+  g_new_calls = 0;
+  g_malloc_calls = 0;
+  g_counting = true;
+  f();
+  g_counting = false;
+  return {g_new_calls.load(), g_malloc_calls.load()};
+}
+
+TEST(CappedSimplexQp, NoAllocationAfterWarmUp) {
+  std::mt19937 rng(31);
+  const std::vector<int> sizes = {26, 26, 26, 26};
+  std::vector<Problem> problems;
+  for (int i = 0; i < 8; ++i) problems.push_back(randomProblem(rng, sizes, 1e-3, 1e3));
+  CappedSimplexQp qp(sizes);
+  Eigen::VectorXd dw(104);
+  QpActiveSet warm = qp.activeSet();
+  int k = 0;
+  const AllocationCount count = allocationsOf([&] {
+    for (const Problem& p : problems) {
+      qp.solve(p.Q, p.beta, p.g, p.w, dw);
+      warm = qp.activeSet();  // same sizes: no reallocation
+      qp.solve(p.Q, p.beta * 2, p.g, p.w, dw, &warm);
+      ++k;
+    }
+  });
+  EXPECT_EQ(count.total(), 0) << count.news << " operator new, " << count.mallocs << " malloc-family calls";
+#if NMDP_COUNTS_MALLOC
+  const AllocationCount check = allocationsOf([] {
+    Eigen::MatrixXd m = Eigen::MatrixXd::Ones(20, 20);
+    const void* volatile sink = m.data();
+    (void)sink;
+  });
+  EXPECT_GE(check.mallocs, 1) << "Eigen allocations must be counted";
+#endif
+}
+
+TEST(CappedSimplexQp, DegenerateCases) {
+  std::mt19937 rng(5);
+  const std::vector<int> sizes = {6, 4, 5};
+  const int n = 15;
+  // Q = 0: only the proximal term; the solution is the projection of w − g/β onto the capped simplices.
+  for (int trial = 0; trial < 50; ++trial) {
+    Problem p = randomProblem(rng, sizes, 1e-3, 1e3);
+    p.Q.setZero();
+    CappedSimplexQp qp(sizes);
+    Eigen::VectorXd dw(n);
+    ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
+    EXPECT_LT(kkt(p, qp, dw), 1e-12);
+  }
+  // g = 0: Δw = 0 whatever Q, β and (feasible) w.
+  for (int trial = 0; trial < 50; ++trial) {
+    Problem p = randomProblem(rng, sizes, 1e-4, 1e6);
+    p.g.setZero();
+    CappedSimplexQp qp(sizes);
+    Eigen::VectorXd dw(n);
+    ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
+    EXPECT_LT(dw.cwiseAbs().maxCoeff(), 1e-14);
+    EXPECT_LT(kkt(p, qp, dw), 1e-12);
+  }
+  // w at a vertex of every capped simplex.
+  for (int trial = 0; trial < 50; ++trial) {
+    Problem p = randomProblem(rng, sizes, 1e-4, 1e6);
+    p.w.setZero();
+    p.w[trial % 6] = 1.0;
+    p.w[6 + trial % 4] = 1.0;
+    p.w[10 + trial % 5] = 1.0;
+    CappedSimplexQp qp(sizes);
+    Eigen::VectorXd dw(n);
+    ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
+    EXPECT_LT(kkt(p, qp, dw), 1e-10);
+  }
+  // An all-zero contact block (no coupling, no gradient, w_c = 0): Δw_c = 0.
+  for (int trial = 0; trial < 50; ++trial) {
+    Problem p = randomProblem(rng, sizes, 1e-4, 1e6);
+    p.Q.middleRows(6, 4).setZero();
+    p.Q.middleCols(6, 4).setZero();
+    p.g.segment(6, 4).setZero();
+    p.w.segment(6, 4).setZero();
+    CappedSimplexQp qp(sizes);
+    Eigen::VectorXd dw(n);
+    ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
+    EXPECT_LT(kkt(p, qp, dw), 1e-10);
+    EXPECT_EQ(dw.segment(6, 4).cwiseAbs().maxCoeff(), 0.0);
+  }
+  // A contact of size zero-gradient *and* all-zero Q overall with w = 0: nothing moves, no iteration
+  // beyond the first.
+  {
+    CappedSimplexQp qp(sizes);
+    Eigen::VectorXd dw(n);
+    const QpResult r = qp.solve(Eigen::MatrixXd::Zero(n, n), 1.0, Eigen::VectorXd::Zero(n), Eigen::VectorXd::Zero(n), dw);
+    EXPECT_EQ(r.status, QpStatus::Converged);
+    EXPECT_EQ(dw.cwiseAbs().maxCoeff(), 0.0);
+  }
+}
+
+TEST(CappedSimplexQp, ReportsBadInputAndNonConvexity) {
+  const std::vector<int> sizes = {3, 3};
+  CappedSimplexQp qp(sizes);
+  Eigen::VectorXd dw(6);
+  // wrong sizes
+  EXPECT_EQ(qp.solve(Eigen::MatrixXd::Zero(5, 5), 1.0, Eigen::VectorXd::Zero(5), Eigen::VectorXd::Zero(5), dw).status,
+            QpStatus::InvalidInput);
+  // NaN
+  Eigen::VectorXd g = Eigen::VectorXd::Ones(6);
+  g[2] = std::nan("");
+  EXPECT_EQ(qp.solve(Eigen::MatrixXd::Zero(6, 6), 1.0, g, Eigen::VectorXd::Zero(6), dw).status, QpStatus::InvalidInput);
+  // β = 0 with Q = 0 and a descent direction: the restricted Hessian is singular
+  g = -Eigen::VectorXd::Ones(6);
+  EXPECT_EQ(qp.solve(Eigen::MatrixXd::Zero(6, 6), 0.0, g, Eigen::VectorXd::Zero(6), dw).status, QpStatus::NotConvex);
+  // indefinite Q
+  Eigen::MatrixXd Q = -Eigen::MatrixXd::Identity(6, 6);
+  EXPECT_EQ(qp.solve(Q, 0.5, g, Eigen::VectorXd::Zero(6), dw).status, QpStatus::NotConvex);
+  // iteration cap
+  qp.options.max_iterations = 1;
+  const QpResult r = qp.solve(Eigen::MatrixXd::Identity(6, 6), 1.0, g, Eigen::VectorXd::Zero(6), dw);
+  EXPECT_EQ(r.status, QpStatus::MaxIterations);
+}
+
+TEST(CappedSimplexQp, TimingFourByTwentySix) {
+  std::mt19937 rng(2024);
+  const std::vector<int> sizes = {26, 26, 26, 26};
+  std::vector<Problem> problems;
+  for (int i = 0; i < 50; ++i) problems.push_back(randomProblem(rng, sizes, 1e-2, 1e3));
+  CappedSimplexQp qp(sizes);
+  Eigen::VectorXd dw(104);
+  std::vector<QpActiveSet> sets;
+  long cold_iterations = 0, warm_iterations = 0;
+  for (const Problem& p : problems) {
+    qp.solve(p.Q, p.beta, p.g, p.w, dw);
+    sets.push_back(qp.activeSet());
+  }
+  using clock = std::chrono::steady_clock;
+  const int reps = 4;
+  auto t0 = clock::now();
+  for (int r = 0; r < reps; ++r)
+    for (const Problem& p : problems) cold_iterations += qp.solve(p.Q, p.beta, p.g, p.w, dw).iterations;
+  auto t1 = clock::now();
+  for (int r = 0; r < reps; ++r)
+    for (std::size_t i = 0; i < problems.size(); ++i) {
+      const Problem& p = problems[i];
+      warm_iterations += qp.solve(p.Q, p.beta * 1.01, p.g, p.w, dw, &sets[i]).iterations;
+    }
+  auto t2 = clock::now();
+  const double solves = reps * problems.size();
+  std::cout << "[ qp ] 4x26: cold " << std::chrono::duration<double, std::micro>(t1 - t0).count() / solves
+            << " us/solve (" << cold_iterations / solves << " iterations), warm (beta x1.01) "
+            << std::chrono::duration<double, std::micro>(t2 - t1).count() / solves << " us/solve ("
+            << warm_iterations / solves << " iterations)\n";
+}
+
+}  // namespace
+}  // namespace nmdp::test
