@@ -1,93 +1,16 @@
 // Bad input through the CLI (`nmdp inspect`) and the library: every malformed URDF or option gives
 // exactly one line on stderr that names the file and the offending element, exit code 1 and no
 // crash; the library throws nmdp::InputError with the same information and prints nothing.
-#include <sys/wait.h>
-#include <unistd.h>
-
-#include <algorithm>
-#include <atomic>
 #include <cstring>
-#include <fstream>
 #include <optional>
 #include <regex>
-#include <sstream>
 
 #include "io/input_error.hpp"
+#include "test_cli.hpp"
 #include "test_support.hpp"
 
 namespace nmdp::test {
 namespace {
-namespace fs = std::filesystem;
-
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    for (int attempt = 0;; ++attempt) {
-      path_ = fs::temp_directory_path() / ("nmdp_test_bad_input_" + std::to_string(::getpid()) + "_" +
-                                           std::to_string(counter++) + "_" + std::to_string(rd()));
-      if (fs::create_directory(path_)) break;
-      if (attempt > 100) throw std::runtime_error("cannot create a temporary directory");
-    }
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const fs::path& path() const { return path_; }
-  std::string write(const std::string& name, const std::string& content) const {
-    const fs::path p = path_ / name;
-    std::ofstream out(p);
-    out << content;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + p.string());
-    return p.string();
-  }
-
- private:
-  fs::path path_;
-};
-
-std::string readText(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-struct CliResult {
-  bool exited = false;    // terminated normally (not by a signal)
-  int exit_code = -1;     // valid when exited
-  std::string out, err;
-};
-
-// Runs `nmdp ARGS...` with stdout and stderr captured to files in `dir`.
-CliResult runNmdp(const std::vector<std::string>& args, const TempDir& dir) {
-  static std::atomic<int> counter{0};
-  const int id = counter++;
-  const fs::path out = dir.path() / ("stdout_" + std::to_string(id) + ".txt");
-  const fs::path err = dir.path() / ("stderr_" + std::to_string(id) + ".txt");
-  std::string cmd = shellQuote(NMDP_BINARY);
-  for (const std::string& a : args) cmd += " " + shellQuote(a);
-  cmd += " >" + shellQuote(out.string()) + " 2>" + shellQuote(err.string()) + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  CliResult r;
-  r.exited = status != -1 && WIFEXITED(status);
-  if (r.exited) r.exit_code = WEXITSTATUS(status);
-  r.out = readText(out);
-  r.err = readText(err);
-  return r;
-}
 
 // ---- fixture URDFs --------------------------------------------------------------------------------
 
@@ -208,12 +131,6 @@ std::vector<BadCase> badCases() {
              joint("dead_joint", "revolute", "hip_link", "ghost_link") + "  <link name=\"ghost_link\"/>\n"),
        {}, {}, {"<joint name=\"dead_joint\">", "lock", "armature"}, "", true});
   return cases;
-}
-
-void expectOneLine(const std::string& text, const std::string& what) {
-  ASSERT_FALSE(text.empty()) << what << " is empty";
-  EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 1) << what << " must be exactly one line:\n" << text;
-  EXPECT_EQ(text.back(), '\n') << what;
 }
 
 class BadUrdf : public ::testing::TestWithParam<BadCase> {};

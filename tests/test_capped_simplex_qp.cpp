@@ -1,139 +1,19 @@
 // The capped-simplex QP of the PGM (DESIGN.md 3): KKT conditions on random problems, brute force on
 // tiny problems, warm start, no allocation after warm-up, degenerate cases.
 //
-// Allocation counting: as in test_no_allocation.cpp, the global operator new family is replaced and
-// on glibc the malloc family is interposed; both count only while `g_counting` is set.
-#include <atomic>
+// Allocation counting (test_allocation_counter.hpp): as in test_no_allocation.cpp, the global
+// operator new family is replaced and on glibc the malloc family is interposed; both count only
+// while counting is on.
 #include <chrono>
 #include <cstdlib>
 #include <iostream>
-#include <new>
 
 #include "solver/capped_simplex_qp.hpp"
 #include "test_support.hpp"
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_new_calls{0};
-std::atomic<long> g_malloc_calls{0};
-
-inline void noteNew() {
-  if (g_counting.load(std::memory_order_relaxed)) g_new_calls.fetch_add(1, std::memory_order_relaxed);
-}
-inline void noteMalloc() {
-  if (g_counting.load(std::memory_order_relaxed)) g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-}
-void* countedNew(std::size_t size) {
-  noteNew();
-  if (size == 0) size = 1;
-  if (void* p = std::malloc(size)) return p;
-  throw std::bad_alloc();
-}
-void* countedAlignedNew(std::size_t size, std::size_t alignment) {
-  noteNew();
-  if (size == 0) size = 1;
-  void* p = nullptr;
-  if (alignment < sizeof(void*)) alignment = sizeof(void*);
-  if (posix_memalign(&p, alignment, size) != 0) throw std::bad_alloc();
-  return p;
-}
-}  // namespace
-
-void* operator new(std::size_t size) { return countedNew(size); }
-void* operator new[](std::size_t size) { return countedNew(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return countedNew(size);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return countedNew(size);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new(std::size_t size, std::align_val_t al) { return countedAlignedNew(size, static_cast<std::size_t>(al)); }
-void* operator new[](std::size_t size, std::align_val_t al) { return countedAlignedNew(size, static_cast<std::size_t>(al)); }
-void* operator new(std::size_t size, std::align_val_t al, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlignedNew(size, static_cast<std::size_t>(al));
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t size, std::align_val_t al, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlignedNew(size, static_cast<std::size_t>(al));
-  } catch (...) {
-    return nullptr;
-  }
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
-#define NMDP_SANITIZED 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define NMDP_SANITIZED 1
-#endif
-#if defined(__GLIBC__) && !defined(NMDP_SANITIZED)
-#define NMDP_COUNTS_MALLOC 1
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void __libc_free(void*);
-
-void* malloc(std::size_t size) {
-  noteMalloc();
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t n, std::size_t size) {
-  noteMalloc();
-  return __libc_calloc(n, size);
-}
-void* realloc(void* p, std::size_t size) {
-  noteMalloc();
-  return __libc_realloc(p, size);
-}
-void free(void* p) { __libc_free(p); }
-void* memalign(std::size_t alignment, std::size_t size) {
-  noteMalloc();
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t size) {
-  noteMalloc();
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
-  noteMalloc();
-  if (alignment < sizeof(void*) || (alignment & (alignment - 1)) != 0) return 22;  // EINVAL
-  void* p = __libc_memalign(alignment, size);
-  if (!p) return 12;  // ENOMEM
-  *out = p;
-  return 0;
-}
-}
-#else
-#define NMDP_COUNTS_MALLOC 0
-#endif
+#define NMDP_COUNT_OPERATOR_NEW
+#define NMDP_COUNT_MALLOC
+#include "test_allocation_counter.hpp"
 
 namespace nmdp::test {
 namespace {
@@ -376,21 +256,6 @@ TEST(CappedSimplexQp, WarmStartAfterBetaChange) {
     EXPECT_LT(kkt(q, qp, dw_warm), 1e-10);
     EXPECT_LT((dw_cold - dw_warm).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, dw_cold.cwiseAbs().maxCoeff()));
   }
-}
-
-struct AllocationCount {
-  long news = 0, mallocs = 0;
-  long total() const { return news + mallocs; }
-};
-template <class F>
-AllocationCount allocationsOf(F&& f) {
-  f();
-  g_new_calls = 0;
-  g_malloc_calls = 0;
-  g_counting = true;
-  f();
-  g_counting = false;
-  return {g_new_calls.load(), g_malloc_calls.load()};
 }
 
 TEST(CappedSimplexQp, NoAllocationAfterWarmUp) {

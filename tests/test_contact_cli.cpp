@@ -4,11 +4,7 @@
 // is a configuration change only; relative paths in a .json model file are resolved against its
 // folder; and the published sand RBF reproduces 3x the measured sand wrenches at a measured centre.
 // Every fixture is written to a unique temporary folder at test time.
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -23,87 +19,13 @@
 #include "io/hdf5_file.hpp"
 #include "io/input_error.hpp"
 #include "terrain/plane.hpp"
+#include "test_cli.hpp"
 #include "test_support.hpp"
 
 namespace nmdp::test {
 namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
-
-// ---- temporary folder and the CLI runner (the pattern of test_bad_input.cpp) -------------------
-
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    for (int attempt = 0;; ++attempt) {
-      path_ = fs::temp_directory_path() / ("nmdp_test_contact_cli_" + std::to_string(::getpid()) + "_" +
-                                           std::to_string(counter++) + "_" + std::to_string(rd()));
-      if (fs::create_directory(path_)) break;
-      if (attempt > 100) throw std::runtime_error("cannot create a temporary directory");
-    }
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  const fs::path& path() const { return path_; }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  // Writes `content` to `name` (sub-folders are created).
-  std::string write(const std::string& name, const std::string& content) const {
-    const fs::path p = path_ / name;
-    fs::create_directories(p.parent_path());
-    std::ofstream out(p);
-    out << content;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + p.string());
-    return p.string();
-  }
-
- private:
-  fs::path path_;
-};
-
-std::string readText(const fs::path& p) {
-  std::ifstream in(p);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-std::string shellQuote(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return out + "'";
-}
-
-struct CliResult {
-  bool exited = false;  // terminated normally (not by a signal)
-  int exit_code = -1;   // valid when exited
-  std::string out, err;
-};
-
-// Runs `nmdp ARGS...` with stdout and stderr captured to files in `dir`.
-CliResult runNmdp(const std::vector<std::string>& args, const TempDir& dir) {
-  static std::atomic<int> counter{0};
-  const int id = counter++;
-  const fs::path out = dir.path() / ("stdout_" + std::to_string(id) + ".txt");
-  const fs::path err = dir.path() / ("stderr_" + std::to_string(id) + ".txt");
-  std::string cmd = shellQuote(NMDP_BINARY);
-  for (const std::string& a : args) cmd += " " + shellQuote(a);
-  cmd += " >" + shellQuote(out.string()) + " 2>" + shellQuote(err.string()) + " </dev/null";
-  const int status = std::system(cmd.c_str());
-  CliResult r;
-  r.exited = status != -1 && WIFEXITED(status);
-  if (r.exited) r.exit_code = WEXITSTATUS(status);
-  r.out = readText(out);
-  r.err = readText(err);
-  return r;
-}
 
 std::string commandLine(const std::vector<std::string>& args) {
   std::string s = "nmdp";
@@ -119,9 +41,7 @@ void expectWrenchError(const std::vector<std::string>& args, const TempDir& dir,
   ASSERT_TRUE(r.exited) << "nmdp was killed by a signal";
   EXPECT_EQ(r.exit_code, 1) << "stderr: " << r.err;  // not 0, not an internal error (3), not a crash
   EXPECT_TRUE(r.out.empty()) << "nothing on stdout for bad input, got:\n" << r.out;
-  ASSERT_FALSE(r.err.empty()) << "stderr is empty";
-  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << "stderr must be exactly one line:\n" << r.err;
-  EXPECT_EQ(r.err.back(), '\n') << r.err;
+  ASSERT_NO_FATAL_FAILURE(expectOneLine(r.err, "stderr"));
   EXPECT_EQ(r.err.rfind("nmdp wrench: error: ", 0), 0u) << r.err;
   for (const std::string& s : expect) EXPECT_NE(r.err.find(s), std::string::npos) << "missing '" << s << "' in: " << r.err;
 }

@@ -10,15 +10,7 @@
 namespace nmdp::test {
 namespace {
 
-class DynamicsDerivatives : public ::testing::TestWithParam<RobotCase> {
- protected:
-  void SetUp() override {
-    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
-      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
-    model = loadUrdf(GetParam().path, GetParam().options);
-  }
-  Model model;
-};
+class DynamicsDerivatives : public RobotTest {};
 
 TEST_P(DynamicsDerivatives, RneaPartialsMatchFiniteDifferences) {
   Data data(model);

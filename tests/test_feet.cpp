@@ -11,11 +11,11 @@
 #include "multibody/kinematics.hpp"
 #include "multibody/stl_mesh.hpp"
 #include "test_support.hpp"
+#include "test_temp_dir.hpp"
 
 namespace nmdp::test {
 namespace {
 
-namespace fs = std::filesystem;
 constexpr double kPi = 3.14159265358979323846;
 
 std::vector<std::string> footLinks(const std::vector<FootContact>& feet) {
@@ -31,26 +31,6 @@ UrdfOptions robosimianPaperOptions() {
     for (int j : {0, 1, 3, 5, 7}) o.locked_joints["limb" + std::to_string(limb) + "_joint" + std::to_string(j)] = 0.0;
   return o;
 }
-
-// A fresh directory for generated files, removed at the end of the test.
-class TempDir {
- public:
-  TempDir() {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    path_ = fs::temp_directory_path() /
-            ("nmdp_feet_" + std::string(info->name()) + "_" + std::to_string(std::hash<std::string>{}(NMDP_SOURCE_DIR)));
-    fs::remove_all(path_);
-    fs::create_directories(path_);
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-
- private:
-  fs::path path_;
-};
 
 void writeText(const std::string& path, const std::string& text) {
   std::ofstream(path, std::ios::binary) << text;

@@ -11,15 +11,7 @@ Vec3 angularRate(const Mat3& Rp, const Mat3& Rm, double two_eps) {
   return aa.axis() * aa.angle() / two_eps;
 }
 
-class Kinematics : public ::testing::TestWithParam<RobotCase> {
- protected:
-  void SetUp() override {
-    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
-      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
-    model = loadUrdf(GetParam().path, GetParam().options);
-  }
-  Model model;
-};
+class Kinematics : public RobotTest {};
 
 TEST_P(Kinematics, SpatialJacobianMatchesFiniteDifferences) {
   Data data(model), fd(model);

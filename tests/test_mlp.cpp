@@ -1,8 +1,6 @@
 // The MLP contact model (DESIGN.md §7.3): autograd derivatives against central differences, batch
 // and run-to-run bit-identity, the HDF5 file round trip, the full PlanarWrenchModel chain rule, the
 // JSON factory, and bad model files.
-#include <unistd.h>
-
 #include <Eigen/Geometry>
 #include <atomic>
 #include <chrono>
@@ -19,11 +17,13 @@
 #include "io/input_error.hpp"
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
+#include "test_temp_dir.hpp"
 
 namespace nmdp {
 namespace {
 
 using test::relativeError;
+using test::TempFile;
 
 constexpr int kVertices = 26;
 
@@ -59,20 +59,6 @@ bool identical(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
   return a.rows() == b.rows() && a.cols() == b.cols() &&
          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
 }
-
-// A file name unique to this process, removed at the end of the test.
-class TempFile {
- public:
-  explicit TempFile(const std::string& name)
-      : path_(::testing::TempDir() + "nmdp_test_mlp_" + std::to_string(::getpid()) + "_" + name) {
-    std::filesystem::remove(path_);
-  }
-  ~TempFile() { std::filesystem::remove(path_); }
-  const std::string& path() const { return path_; }
-
- private:
-  std::string path_;
-};
 
 // ----- the feature function ------------------------------------------------------------------------
 

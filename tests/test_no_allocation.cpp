@@ -5,12 +5,8 @@
 // Counting: the global operator new family is replaced (std::vector, std::string, ...), and on
 // glibc malloc/calloc/realloc/memalign/posix_memalign/aligned_alloc are interposed as well,
 // because Eigen allocates its dynamic matrices with std::malloc, not operator new. Both only count
-// while `g_counting` is set, i.e. around the measured call; the replacement lives in this test
-// binary only.
-#include <atomic>
-#include <cstdlib>
-#include <new>
-
+// while counting is on, i.e. around the measured call; the replacement (test_allocation_counter.hpp)
+// lives in this test binary only.
 #include "multibody/crba.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/pbd_terms.hpp"
@@ -19,132 +15,9 @@
 #include "solver/ne_residual.hpp"
 #include "test_support.hpp"
 
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_new_calls{0};     // operator new / new[] (all overloads)
-std::atomic<long> g_malloc_calls{0};  // malloc family (includes the mallocs behind operator new)
-
-inline void noteNew() {
-  if (g_counting.load(std::memory_order_relaxed)) g_new_calls.fetch_add(1, std::memory_order_relaxed);
-}
-inline void noteMalloc() {
-  if (g_counting.load(std::memory_order_relaxed)) g_malloc_calls.fetch_add(1, std::memory_order_relaxed);
-}
-
-void* countedNew(std::size_t size) {
-  noteNew();
-  if (size == 0) size = 1;
-  if (void* p = std::malloc(size)) return p;
-  throw std::bad_alloc();
-}
-void* countedAlignedNew(std::size_t size, std::size_t alignment) {
-  noteNew();
-  if (size == 0) size = 1;
-  void* p = nullptr;
-  if (alignment < sizeof(void*)) alignment = sizeof(void*);
-  if (posix_memalign(&p, alignment, size) != 0) throw std::bad_alloc();
-  return p;
-}
-}  // namespace
-
-// --- operator new / delete --------------------------------------------------------------------
-void* operator new(std::size_t size) { return countedNew(size); }
-void* operator new[](std::size_t size) { return countedNew(size); }
-void* operator new(std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return countedNew(size);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t size, const std::nothrow_t&) noexcept {
-  try {
-    return countedNew(size);
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new(std::size_t size, std::align_val_t al) { return countedAlignedNew(size, static_cast<std::size_t>(al)); }
-void* operator new[](std::size_t size, std::align_val_t al) { return countedAlignedNew(size, static_cast<std::size_t>(al)); }
-void* operator new(std::size_t size, std::align_val_t al, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlignedNew(size, static_cast<std::size_t>(al));
-  } catch (...) {
-    return nullptr;
-  }
-}
-void* operator new[](std::size_t size, std::align_val_t al, const std::nothrow_t&) noexcept {
-  try {
-    return countedAlignedNew(size, static_cast<std::size_t>(al));
-  } catch (...) {
-    return nullptr;
-  }
-}
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-
-// --- the malloc family (glibc: interpose and forward to the __libc_* entry points) -----------
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
-#define NMDP_SANITIZED 1
-#endif
-#endif
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define NMDP_SANITIZED 1
-#endif
-// Sanitizers own malloc: count operator new only under them.
-#if defined(__GLIBC__) && !defined(NMDP_SANITIZED)
-#define NMDP_COUNTS_MALLOC 1
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void __libc_free(void*);
-
-void* malloc(std::size_t size) {
-  noteMalloc();
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t n, std::size_t size) {
-  noteMalloc();
-  return __libc_calloc(n, size);
-}
-void* realloc(void* p, std::size_t size) {
-  noteMalloc();
-  return __libc_realloc(p, size);
-}
-void free(void* p) { __libc_free(p); }
-void* memalign(std::size_t alignment, std::size_t size) {
-  noteMalloc();
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t size) {
-  noteMalloc();
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
-  noteMalloc();
-  if (alignment < sizeof(void*) || (alignment & (alignment - 1)) != 0) return 22;  // EINVAL
-  void* p = __libc_memalign(alignment, size);
-  if (!p) return 12;  // ENOMEM
-  *out = p;
-  return 0;
-}
-}
-#else
-#define NMDP_COUNTS_MALLOC 0
-#endif
+#define NMDP_COUNT_OPERATOR_NEW
+#define NMDP_COUNT_MALLOC
+#include "test_allocation_counter.hpp"
 
 namespace nmdp::test {
 namespace {
@@ -152,23 +25,6 @@ namespace {
 // Keeps the compiler from eliding an allocation whose pointer is otherwise unused.
 const void* volatile g_sink = nullptr;
 void sink(const void* p) { g_sink = p; }
-
-struct AllocationCount {
-  long news = 0, mallocs = 0;
-  long total() const { return news + mallocs; }
-};
-
-// Warm-up call, then one counted call.
-template <class F>
-AllocationCount allocationsOf(F&& f) {
-  f();
-  g_new_calls = 0;
-  g_malloc_calls = 0;
-  g_counting = true;
-  f();
-  g_counting = false;
-  return {g_new_calls.load(), g_malloc_calls.load()};
-}
 
 #define EXPECT_NO_ALLOCATION(call)                                                                        \
   do {                                                                                                    \
@@ -193,12 +49,11 @@ TEST(NoAllocation, CounterSeesAllocations) {
 #endif
 }
 
-class NoAllocation : public ::testing::TestWithParam<RobotCase> {
+class NoAllocation : public RobotTest {
  protected:
   void SetUp() override {
-    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
-      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
-    model = loadUrdf(GetParam().path, GetParam().options);
+    RobotTest::SetUp();
+    if (IsSkipped()) return;
     data = std::make_unique<Data>(model);
     const int n = model.nq;
     std::mt19937 rng(3);
@@ -224,7 +79,6 @@ class NoAllocation : public ::testing::TestWithParam<RobotCase> {
     wrench << 0.3, -0.2, 0.1, 5.0, -3.0, 40.0;
   }
 
-  Model model;
   std::unique_ptr<Data> data;
   double h = 0.01;
   Eigen::VectorXd q, qd, qdd, q_n, qd_n, theta, G, grad;

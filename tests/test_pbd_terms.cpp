@@ -9,13 +9,8 @@
 namespace nmdp::test {
 namespace {
 
-class PbdTerms : public ::testing::TestWithParam<RobotCase> {
+class PbdTerms : public RobotTest {
  protected:
-  void SetUp() override {
-    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
-      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
-    model = loadUrdf(GetParam().path, GetParam().options);
-  }
   BodyTransforms transformsAt(const Eigen::VectorXd& q) {
     Data d(model);
     forwardKinematics(model, d, q);
@@ -23,7 +18,6 @@ class PbdTerms : public ::testing::TestWithParam<RobotCase> {
     bodyTransforms(model, d, T);
     return T;
   }
-  Model model;
 };
 
 TEST_P(PbdTerms, InertiaTermGradientAndHessianMatchFiniteDifferences) {

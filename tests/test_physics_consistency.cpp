@@ -59,15 +59,7 @@ TEST(FreeMultibody, ConservesEnergyAndMomentumUnderFineIntegration) {
   EXPECT_GT(T0, 1.0);
 }
 
-class NeVersusPbd : public ::testing::TestWithParam<RobotCase> {
- protected:
-  void SetUp() override {
-    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
-      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
-    model = loadUrdf(GetParam().path, GetParam().options);
-  }
-  Model model;
-};
+class NeVersusPbd : public RobotTest {};
 
 TEST_P(NeVersusPbd, ResidualsAgreeAsStepShrinks) {
   std::mt19937 rng(41);

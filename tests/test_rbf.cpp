@@ -8,12 +8,10 @@
 //  * HDF5 save → load is bit-identical; bad files and bad JSON give an InputError naming the file;
 //  * evaluation allocates nothing once warmed up (timing printed for information).
 // Tests on ../shared data skip with a message when it is absent; the others use synthetic models.
-#include <atomic>
 #include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <map>
-#include <new>
 #include <sstream>
 
 #include "contact_models/planar_wrench_model.hpp"
@@ -24,64 +22,10 @@
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
 
-// ----- allocation counting (glibc: interpose the malloc family; operator new calls malloc) ----
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-inline void noteAllocation() {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-}
-}  // namespace
-
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define NMDP_RBF_COUNTS_MALLOC 0
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
-#define NMDP_RBF_COUNTS_MALLOC 0
-#endif
-#endif
-#if !defined(NMDP_RBF_COUNTS_MALLOC) && defined(__GLIBC__)
-#define NMDP_RBF_COUNTS_MALLOC 1
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void __libc_free(void*);
-void* malloc(std::size_t size) {
-  noteAllocation();
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t n, std::size_t size) {
-  noteAllocation();
-  return __libc_calloc(n, size);
-}
-void* realloc(void* p, std::size_t size) {
-  noteAllocation();
-  return __libc_realloc(p, size);
-}
-void free(void* p) { __libc_free(p); }
-void* memalign(std::size_t alignment, std::size_t size) {
-  noteAllocation();
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t size) {
-  noteAllocation();
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
-  noteAllocation();
-  if (alignment < sizeof(void*) || (alignment & (alignment - 1)) != 0) return 22;  // EINVAL
-  void* p = __libc_memalign(alignment, size);
-  if (!p) return 12;  // ENOMEM
-  *out = p;
-  return 0;
-}
-}
-#endif
-#ifndef NMDP_RBF_COUNTS_MALLOC
-#define NMDP_RBF_COUNTS_MALLOC 0
-#endif
+// Allocation counting: on glibc the malloc family is interposed (operator new calls malloc).
+#define NMDP_COUNT_MALLOC
+#include "test_allocation_counter.hpp"
+#include "test_temp_dir.hpp"
 
 namespace nmdp::test {
 namespace {
@@ -89,39 +33,6 @@ namespace fs = std::filesystem;
 
 const char* kSandModel = "granular/robosimian_sand_rbf";
 const char* kSandSamples = "granular/sand_samples";
-
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    for (int attempt = 0;; ++attempt) {
-      path_ = fs::temp_directory_path() / ("nmdp_test_rbf_" + std::to_string(::getpid()) + "_" +
-                                           std::to_string(counter++) + "_" + std::to_string(rd()));
-      if (fs::create_directory(path_)) break;
-      if (attempt > 100) throw std::runtime_error("cannot create a temporary directory");
-    }
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string path(const std::string& name) const { return (path_ / name).string(); }
-  std::string dir() const { return path_.string(); }
-  std::string write(const std::string& name, const std::string& content) const {
-    fs::create_directories((path_ / name).parent_path());
-    std::ofstream out(path_ / name);
-    out << content;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + path(name));
-    return path(name);
-  }
-
- private:
-  fs::path path_;
-};
 
 // Rows of a CSV file with a header line, as numbers.
 std::vector<std::vector<double>> readCsv(const std::string& path) {
@@ -690,7 +601,7 @@ TEST(RbfSynthetic, FrameDerivativesMatchFiniteDifferences) {
 
 void checkRoundTrip(const std::shared_ptr<const RbfFunction>& f, const PlanarGeometry& geometry) {
   TempDir tmp;
-  const std::string path = tmp.path("model.h5");
+  const std::string path = tmp.file("model.h5");
   saveRbfModel(path, *f, geometry);
   EXPECT_TRUE(fs::exists(path));
   EXPECT_FALSE(fs::exists(path + ".partial"));
@@ -796,53 +707,53 @@ TEST(RbfBadInput, PublishedFormat) {
       [&] {
         makeRbfModel({{"file", "nowhere"}}, ctx);
       },
-      {"scene.json: contacts.model.file", tmp.path("nowhere"), "no such file"});
+      {"scene.json: contacts.model.file", tmp.file("nowhere"), "no such file"});
   tmp.write("noweights/inputs.txt", kInputs);
   expectInputError(
       [&] {
         makeRbfModel({{"file", "noweights"}}, ctx);
       },
-      {"contacts.model.file", tmp.path("noweights/weights.txt"), "no such file"});
-  expectInputError([&] { readPublishedRbf(tmp.path("absent.txt"), tmp.path("ok/weights.txt")); },
-                   {tmp.path("absent.txt"), "no such file"});
+      {"contacts.model.file", tmp.file("noweights/weights.txt"), "no such file"});
+  expectInputError([&] { readPublishedRbf(tmp.file("absent.txt"), tmp.file("ok/weights.txt")); },
+                   {tmp.file("absent.txt"), "no such file"});
   // Wrong shapes.
   tmp.write("cols/inputs.txt", "-0.01 0.0\n-0.03 0.3 0.7\n0.05 -0.3\n");
   tmp.write("cols/weights.txt", weightsText(6));
-  expectInputError([&] { makeRbfModel({{"file", "cols"}}, ctx); }, {tmp.path("cols/inputs.txt") + ":2", "expected 2"});
+  expectInputError([&] { makeRbfModel({{"file", "cols"}}, ctx); }, {tmp.file("cols/inputs.txt") + ":2", "expected 2"});
   tmp.write("wcols/inputs.txt", kInputs);
   tmp.write("wcols/weights.txt", "1 2 3\n4 5\n1 2 3\n1 2 3\n1 2 3\n1 2 3\n");
   expectInputError(
       [&] {
         makeRbfModel({{"file", "wcols"}}, ctx);
       },
-      {tmp.path("wcols/weights.txt") + ":2", "expected 3"});
+      {tmp.file("wcols/weights.txt") + ":2", "expected 3"});
   tmp.write("count/inputs.txt", kInputs);
   tmp.write("count/weights.txt", weightsText(5));
   expectInputError(
       [&] {
         makeRbfModel({{"file", "count"}}, ctx);
       },
-      {tmp.path("count/weights.txt"), "5 weight lines", "multiple of the 3 centres"});
+      {tmp.file("count/weights.txt"), "5 weight lines", "multiple of the 3 centres"});
   tmp.write("empty/inputs.txt", "\n# nothing\n");
   tmp.write("empty/weights.txt", weightsText(6));
-  expectInputError([&] { makeRbfModel({{"file", "empty"}}, ctx); }, {tmp.path("empty/inputs.txt"), "no centres"});
+  expectInputError([&] { makeRbfModel({{"file", "empty"}}, ctx); }, {tmp.file("empty/inputs.txt"), "no centres"});
   // NaN and non-numeric values.
   tmp.write("nan/inputs.txt", kInputs);
   tmp.write("nan/weights.txt", "1 2 3\n4 nan 6\n1 2 3\n1 2 3\n1 2 3\n1 2 3\n");
-  expectInputError([&] { makeRbfModel({{"file", "nan"}}, ctx); }, {tmp.path("nan/weights.txt") + ":2", "non-finite"});
+  expectInputError([&] { makeRbfModel({{"file", "nan"}}, ctx); }, {tmp.file("nan/weights.txt") + ":2", "non-finite"});
   tmp.write("inf/inputs.txt", "-0.01 inf\n");
   tmp.write("inf/weights.txt", "1 2 3\n");
-  expectInputError([&] { makeRbfModel({{"file", "inf"}}, ctx); }, {tmp.path("inf/inputs.txt") + ":1", "non-finite"});
+  expectInputError([&] { makeRbfModel({{"file", "inf"}}, ctx); }, {tmp.file("inf/inputs.txt") + ":1", "non-finite"});
   tmp.write("text/inputs.txt", kInputs);
   tmp.write("text/weights.txt", "1 2 3\n\n1 2 abc\n1 2 3\n");
   expectInputError(
       [&] {
         makeRbfModel({{"file", "text"}}, ctx);
       },
-      {tmp.path("text/weights.txt") + ":3", "'abc' is not a number"});
+      {tmp.file("text/weights.txt") + ":3", "'abc' is not a number"});
   tmp.write("junk/inputs.txt", "-0.01 0.0x\n");
   tmp.write("junk/weights.txt", "1 2 3\n");
-  expectInputError([&] { makeRbfModel({{"file", "junk"}}, ctx); }, {tmp.path("junk/inputs.txt") + ":1", "'0.0x'"});
+  expectInputError([&] { makeRbfModel({{"file", "junk"}}, ctx); }, {tmp.file("junk/inputs.txt") + ":1", "'0.0x'"});
 }
 
 TEST(RbfBadInput, Hdf5Format) {
@@ -850,16 +761,16 @@ TEST(RbfBadInput, Hdf5Format) {
   const ConfigContext ctx{"scene.json: contacts.model", tmp.dir()};
   std::mt19937 rng(41);
   const RbfFunction f(syntheticRbf(RbfKernel::ThinPlate, true, rng, 5, 2));
-  saveRbfModel(tmp.path("good.h5"), f, publishedRbfGeometry());
+  saveRbfModel(tmp.file("good.h5"), f, publishedRbfGeometry());
   EXPECT_EQ(makeRbfModel({{"file", "good.h5"}}, ctx)->vertexCount(), 2);
 
   // Writes a model file with one thing changed.
   const auto writeModel = [&](const std::string& name, const std::function<void(h5::File&)>& change) {
-    h5::File file = h5::File::createAtomic(tmp.path(name));
+    h5::File file = h5::File::createAtomic(tmp.file(name));
     file.createGroup("/rbf");
     change(file);
     file.commit();
-    return tmp.path(name);
+    return tmp.file(name);
   };
   const RbfParameters& p = f.parameters();
   const auto standard = [&](h5::File& file, bool centres, bool weights, bool kernel) {
@@ -878,14 +789,14 @@ TEST(RbfBadInput, Hdf5Format) {
       [&] {
         makeRbfModel({{"file", "absent.h5"}}, ctx);
       },
-      {"contacts.model.file", tmp.path("absent.h5"), "no such file"});
-  expectInputError([&] { readRbfHdf5(tmp.write("text.h5", "not hdf5")); }, {tmp.path("text.h5"), "not an HDF5 file"});
+      {"contacts.model.file", tmp.file("absent.h5"), "no such file"});
+  expectInputError([&] { readRbfHdf5(tmp.write("text.h5", "not hdf5")); }, {tmp.file("text.h5"), "not an HDF5 file"});
   {
-    h5::File file = h5::File::createAtomic(tmp.path("nogroup.h5"));
+    h5::File file = h5::File::createAtomic(tmp.file("nogroup.h5"));
     file.writeMatrix("/other", Eigen::MatrixXd::Zero(2, 2));
     file.commit();
   }
-  expectInputError([&] { readRbfHdf5(tmp.path("nogroup.h5")); }, {tmp.path("nogroup.h5"), "'/rbf'"});
+  expectInputError([&] { readRbfHdf5(tmp.file("nogroup.h5")); }, {tmp.file("nogroup.h5"), "'/rbf'"});
 
   const std::string rows = writeModel("rows.h5", [&](h5::File& file) {
     standard(file, true, false, true);
@@ -952,7 +863,7 @@ TEST(RbfBadInput, Configuration) {
   tmp.write("ok/inputs.txt", kInputs);
   tmp.write("ok/weights.txt", weightsText(6));
   std::mt19937 rng(51);
-  saveRbfModel(tmp.path("m.h5"), RbfFunction(syntheticRbf(RbfKernel::Gaussian, false, rng)), publishedRbfGeometry());
+  saveRbfModel(tmp.file("m.h5"), RbfFunction(syntheticRbf(RbfKernel::Gaussian, false, rng)), publishedRbfGeometry());
   tmp.write("model.bin", "?");
 
   expectInputError([&] { makeRbfModel(nlohmann::json::object(), ctx); },
@@ -979,13 +890,13 @@ TEST(RbfBadInput, Configuration) {
         makeRbfModel({{"file", "m.h5"}, {"kernel", "gaussian"}}, ctx);
       },
       {"contacts.model.kernel", "stored in the HDF5 model file"});
-  expectInputError([&] { makeRbfModel({{"file", "model.bin"}}, ctx); }, {tmp.path("model.bin"), "format"});
+  expectInputError([&] { makeRbfModel({{"file", "model.bin"}}, ctx); }, {tmp.file("model.bin"), "format"});
   // An explicit format overrides the name.
   expectInputError(
       [&] {
         makeRbfModel({{"file", "model.bin"}, {"format", "hdf5"}}, ctx);
       },
-      {tmp.path("model.bin"), "not an HDF5 file"});
+      {tmp.file("model.bin"), "not an HDF5 file"});
   EXPECT_EQ(makeRbfModel({{"file", "ok/inputs.txt"}, {"weights_file", "ok/weights.txt"}, {"format", "published"}}, ctx)
                 ->vertexCount(),
             2);
@@ -1014,13 +925,12 @@ TEST(RbfPerformance, NoAllocationOnceWarmedUpAndTiming) {
   model.evaluate(frames, terrain, out, true);  // warm up
   model.evaluate(frames, terrain, out, false);
 
-  g_allocations = 0;
-  g_counting = true;
-  model.evaluate(frames, terrain, out, true);
-  model.evaluate(frames, terrain, out, false);
-  g_counting = false;
-  if (NMDP_RBF_COUNTS_MALLOC) {
-    EXPECT_EQ(g_allocations.load(), 0) << "PlanarWrenchModel(RBF)::evaluate allocated once warmed up";
+  const AllocationCount count = countAllocations([&] {
+    model.evaluate(frames, terrain, out, true);
+    model.evaluate(frames, terrain, out, false);
+  });
+  if (NMDP_COUNTS_MALLOC) {
+    EXPECT_EQ(count.mallocs, 0) << "PlanarWrenchModel(RBF)::evaluate allocated once warmed up";
   } else {
     std::cout << "[ info ] allocation counting unavailable in this build (sanitizer or non-glibc)\n";
   }

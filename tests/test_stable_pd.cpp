@@ -2,7 +2,6 @@
 // with gradient and Hessian against finite differences, ∇P == −τ exactly, zero torque on base
 // coordinates, mass-scaled default gains, and the point of stable PD — a 1-DOF joint integrated by
 // backward Euler is stable for any step, where explicit PD diverges.
-#include <atomic>
 #include <cmath>
 #include <cstdlib>
 #include <limits>
@@ -11,60 +10,10 @@
 #include "control/stable_pd.hpp"
 #include "test_support.hpp"
 
-// --- allocation counting (glibc: interpose malloc; Eigen and operator new both go through it) ---
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_mallocs{0};
-}  // namespace
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-#define NMDP_PD_SANITIZED 1
-#endif
-#if defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(memory_sanitizer) || __has_feature(thread_sanitizer)
-#define NMDP_PD_SANITIZED 1
-#endif
-#endif
-#if defined(__GLIBC__) && !defined(NMDP_PD_SANITIZED)
-#define NMDP_PD_COUNTS_MALLOC 1
-extern "C" {
-void* __libc_malloc(std::size_t);
-void* __libc_calloc(std::size_t, std::size_t);
-void* __libc_realloc(void*, std::size_t);
-void* __libc_memalign(std::size_t, std::size_t);
-void __libc_free(void*);
-void* malloc(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_malloc(size);
-}
-void* calloc(std::size_t n, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_calloc(n, size);
-}
-void* realloc(void* p, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_realloc(p, size);
-}
-void free(void* p) { __libc_free(p); }
-void* memalign(std::size_t alignment, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(alignment, size);
-}
-void* aligned_alloc(std::size_t alignment, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  return __libc_memalign(alignment, size);
-}
-int posix_memalign(void** out, std::size_t alignment, std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_mallocs.fetch_add(1, std::memory_order_relaxed);
-  if (alignment < sizeof(void*) || (alignment & (alignment - 1)) != 0) return 22;  // EINVAL
-  void* p = __libc_memalign(alignment, size);
-  if (!p) return 12;  // ENOMEM
-  *out = p;
-  return 0;
-}
-}
-#else
-#define NMDP_PD_COUNTS_MALLOC 0
-#endif
+// Allocation counting: on glibc the malloc family is interposed (Eigen and operator new both go
+// through it).
+#define NMDP_COUNT_MALLOC
+#include "test_allocation_counter.hpp"
 
 namespace nmdp::test {
 namespace {
@@ -275,31 +224,27 @@ TEST_P(StablePdRobots, AllocatesNothing) {
   Eigen::VectorXd tau(model.nq), grad(model.nq), jac(model.nq), hess(model.nq);
   const double* data[4] = {tau.data(), grad.data(), jac.data(), hess.data()};
   double sum = 0.0;
-  g_mallocs = 0;
-  g_counting = true;
-  pdTorque(c.gains, c.target, c.theta, c.q_n, 0.01, tau);
-  pdPotentialGradient(c.gains, c.target, c.theta, c.q_n, 0.01, grad);
-  pdTorqueJacobianDiagonal(c.gains, 0.01, jac);
-  pdPotentialHessianDiagonal(c.gains, 0.01, hess);
-  sum += pdPotential(c.gains, c.target, c.theta, c.q_n, 0.01);
-  g_counting = false;
+  const AllocationCount count = countAllocations([&] {
+    pdTorque(c.gains, c.target, c.theta, c.q_n, 0.01, tau);
+    pdPotentialGradient(c.gains, c.target, c.theta, c.q_n, 0.01, grad);
+    pdTorqueJacobianDiagonal(c.gains, 0.01, jac);
+    pdPotentialHessianDiagonal(c.gains, 0.01, hess);
+    sum += pdPotential(c.gains, c.target, c.theta, c.q_n, 0.01);
+  });
   EXPECT_TRUE(std::isfinite(sum));
-  EXPECT_EQ(g_mallocs.load(), 0);
+  EXPECT_EQ(count.mallocs, 0);
   EXPECT_EQ(data[0], tau.data());
   EXPECT_EQ(data[1], grad.data());
   EXPECT_EQ(data[2], jac.data());
   EXPECT_EQ(data[3], hess.data());
   // Negative control: an unsized output is resized once, and the counter sees it.
   Eigen::VectorXd unsized;
-  g_mallocs = 0;
-  g_counting = true;
-  pdTorque(c.gains, c.target, c.theta, c.q_n, 0.01, unsized);
-  g_counting = false;
+  const AllocationCount resized = countAllocations([&] { pdTorque(c.gains, c.target, c.theta, c.q_n, 0.01, unsized); });
   EXPECT_EQ(unsized.size(), model.nq);
-  if (NMDP_PD_COUNTS_MALLOC) {
-    EXPECT_GE(g_mallocs.load(), 1);
+  if (NMDP_COUNTS_MALLOC) {
+    EXPECT_GE(resized.mallocs, 1);
   }
-  if (!NMDP_PD_COUNTS_MALLOC) GTEST_SKIP() << "malloc is not interposed here; only output buffers were checked";
+  if (!NMDP_COUNTS_MALLOC) GTEST_SKIP() << "malloc is not interposed here; only output buffers were checked";
 }
 
 INSTANTIATE_TEST_SUITE_P(Bases, StablePdRobots,

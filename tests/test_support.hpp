@@ -1,4 +1,5 @@
-// Shared helpers for the test suite: where the robots are, random states, finite differences.
+// Shared helpers for the test suite: where the robots are, the robot-parameterized fixture, random
+// states, finite differences. See also test_temp_dir.hpp, test_cli.hpp, test_allocation_counter.hpp.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -7,6 +8,7 @@
 #include <random>
 #include <string>
 
+#include "io/input_error.hpp"
 #include "multibody/data.hpp"
 #include "multibody/urdf_loader.hpp"
 
@@ -51,6 +53,34 @@ inline std::vector<RobotCase> derivativeRobots() {
     for (int j : {0, 1, 3, 5, 7}) paper.locked_joints["limb" + std::to_string(limb) + "_joint" + std::to_string(j)] = 0.0;
   out.push_back({"robosimian_paper_planar", sharedPath("robots/robosimian/robosimian_caesar_new_all_active.urdf"), paper, true});
   return out;
+}
+
+// A test parameterized by the robots of derivativeRobots(): SetUp skips with a message when the
+// robot is one of ../shared and that is absent, and loads the model otherwise. A fixture that
+// extends SetUp calls RobotTest::SetUp() first and returns when IsSkipped().
+class RobotTest : public ::testing::TestWithParam<RobotCase> {
+ protected:
+  void SetUp() override {
+    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
+      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
+    model = loadUrdf(GetParam().path, GetParam().options);
+  }
+  Model model;
+};
+
+// The message of the nmdp::InputError that f() throws; a failure (and "") when it throws anything
+// else or nothing.
+inline std::string inputErrorMessage(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << "expected nmdp::InputError, got another exception: " << e.what();
+    return "";
+  }
+  ADD_FAILURE() << "expected nmdp::InputError, nothing was thrown";
+  return "";
 }
 
 inline Eigen::VectorXd randomVector(std::mt19937& rng, int n, double scale) {

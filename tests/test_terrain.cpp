@@ -8,14 +8,9 @@
 //  * bad input (holes, 'nan', ragged rows, missing file, non-numeric cells, too small grids, bad
 //    spacing, unknown type or key) throws InputError naming the file, line and column or the key;
 //  * query() allocates nothing (operator new is counted in this test binary).
-#include <unistd.h>
-
-#include <atomic>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <fstream>
-#include <new>
 #include <sstream>
 
 #include "io/input_error.hpp"
@@ -25,72 +20,13 @@
 #include "terrain/terrain_factory.hpp"
 #include "test_support.hpp"
 
-// --- counting operator new (this test binary only) ---------------------------------------------
-namespace {
-std::atomic<bool> g_counting{false};
-std::atomic<long> g_allocations{0};
-void* countedNew(std::size_t size) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (size == 0) size = 1;
-  if (void* p = std::malloc(size)) return p;
-  throw std::bad_alloc();
-}
-void* countedAlignedNew(std::size_t size, std::size_t alignment) {
-  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1, std::memory_order_relaxed);
-  if (size == 0) size = 1;
-  if (alignment < sizeof(void*)) alignment = sizeof(void*);
-  void* p = nullptr;
-  if (posix_memalign(&p, alignment, size) != 0) throw std::bad_alloc();
-  return p;
-}
-}  // namespace
-void* operator new(std::size_t size) { return countedNew(size); }
-void* operator new[](std::size_t size) { return countedNew(size); }
-void* operator new(std::size_t size, std::align_val_t a) { return countedAlignedNew(size, static_cast<std::size_t>(a)); }
-void* operator new[](std::size_t size, std::align_val_t a) { return countedAlignedNew(size, static_cast<std::size_t>(a)); }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+#define NMDP_COUNT_OPERATOR_NEW  // operator new is counted in this test binary (not malloc)
+#include "test_allocation_counter.hpp"
+#include "test_temp_dir.hpp"
 
 namespace nmdp::test {
 namespace {
-namespace fs = std::filesystem;
 using nlohmann::json;
-
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    for (int attempt = 0;; ++attempt) {
-      path_ = fs::temp_directory_path() / ("nmdp_test_terrain_" + std::to_string(::getpid()) + "_" +
-                                           std::to_string(counter++) + "_" + std::to_string(rd()));
-      if (fs::create_directory(path_)) break;
-      if (attempt > 100) throw std::runtime_error("cannot create a temporary directory");
-    }
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-  std::string file(const std::string& name) const { return (path_ / name).string(); }
-  std::string dir() const { return path_.string(); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream out(file(name), std::ios::binary);
-    out << text;
-    return file(name);
-  }
-
- private:
-  fs::path path_;
-};
 
 // A grid sampled from f, written as CSV with full precision (and a comment header).
 struct GridSpec {
@@ -170,19 +106,6 @@ void checkDerivatives(const Terrain& terrain, const Vec3& p, double tol, const s
       << "normal_jacobian\n" << q.normal_jacobian << "\nfd\n" << fd_normal;
   // n stays unit: nᵀ ∂n/∂p = 0.
   EXPECT_LT((q.normal.transpose() * q.normal_jacobian).cwiseAbs().maxCoeff(), 1e-13);
-}
-
-std::string thrownMessage(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected InputError, got another exception: " << e.what();
-    return "";
-  }
-  ADD_FAILURE() << "expected InputError, nothing was thrown";
-  return "";
 }
 
 #define EXPECT_MESSAGE_HAS(message, part) \
@@ -519,17 +442,16 @@ TEST(Terrain, QueryDoesNotAllocate) {
   TerrainQuery q;
   double sink = 0.0;
   for (const auto& t : terrains) t->query(points[0], q, true);  // warm up
-  g_allocations = 0;
-  g_counting = true;
-  for (const auto& t : terrains)
-    for (const Vec3& p : points) {
-      t->query(p, q, true);
-      sink += q.distance + q.normal_jacobian(0, 0);
-      t->query(p, q, false);
-      sink += q.distance;
-    }
-  g_counting = false;
-  EXPECT_EQ(g_allocations.load(), 0);
+  const AllocationCount count = countAllocations([&] {
+    for (const auto& t : terrains)
+      for (const Vec3& p : points) {
+        t->query(p, q, true);
+        sink += q.distance + q.normal_jacobian(0, 0);
+        t->query(p, q, false);
+        sink += q.distance;
+      }
+  });
+  EXPECT_EQ(count.news, 0);
   EXPECT_TRUE(std::isfinite(sink));
 }
 
@@ -541,12 +463,12 @@ class TerrainBadInput : public ::testing::Test {
   // The message of the InputError from a heightfield file with `text`.
   std::string csvError(const std::string& text) {
     dir_.write("bad.csv", text);
-    return thrownMessage([&] {
+    return inputErrorMessage([&] {
       makeTerrain(json{{"type", "heightfield"}, {"file", "bad.csv"}, {"spacing", 0.1}}, {"scene.json: terrain", dir_.dir()});
     });
   }
   std::string configError(const json& config) {
-    return thrownMessage([&] { makeTerrain(config, {"scene.json: terrain", dir_.dir()}); });
+    return inputErrorMessage([&] { makeTerrain(config, {"scene.json: terrain", dir_.dir()}); });
   }
   TempDir dir_;
 };

@@ -1,56 +1,21 @@
 // The URDF loader: fixed-joint merging (inertia included), massless links, base types, joint
 // kinds, locked joints, armature, massless movable joints, and the real robots of ../shared.
 // Fixture URDFs are generated here and written to a unique temporary directory.
-#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <iomanip>
 #include <regex>
 #include <sstream>
-#include <unistd.h>
 
 #include "io/input_error.hpp"
 #include "multibody/crba.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/rnea.hpp"
 #include "test_support.hpp"
+#include "test_temp_dir.hpp"
 
 namespace nmdp::test {
 namespace {
-namespace fs = std::filesystem;
-
-// A fresh directory under the system temp dir, removed with everything in it at scope exit.
-class TempDir {
- public:
-  TempDir() {
-    static std::atomic<int> counter{0};
-    std::random_device rd;
-    for (int attempt = 0;; ++attempt) {
-      path_ = fs::temp_directory_path() / ("nmdp_test_urdf_loader_" + std::to_string(::getpid()) + "_" +
-                                           std::to_string(counter++) + "_" + std::to_string(rd()));
-      if (fs::create_directory(path_)) break;
-      if (attempt > 100) throw std::runtime_error("cannot create a temporary directory");
-    }
-  }
-  ~TempDir() {
-    std::error_code ec;
-    fs::remove_all(path_, ec);
-  }
-  TempDir(const TempDir&) = delete;
-  TempDir& operator=(const TempDir&) = delete;
-
-  std::string write(const std::string& name, const std::string& content) const {
-    const fs::path p = path_ / name;
-    std::ofstream out(p);
-    out << content;
-    out.close();
-    if (!out) throw std::runtime_error("cannot write " + p.string());
-    return p.string();
-  }
-
- private:
-  fs::path path_;
-};
 
 // Full-precision text of a number, so generated URDFs carry exactly the values the test uses.
 std::string num(double v) {
@@ -128,19 +93,6 @@ double scanUrdfMass(const std::string& path) {
   }
   EXPECT_GT(count, 0) << path;
   return sum;
-}
-
-std::string inputErrorMessage(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  } catch (const std::exception& e) {
-    ADD_FAILURE() << "expected nmdp::InputError, got another exception: " << e.what();
-    return "";
-  }
-  ADD_FAILURE() << "expected nmdp::InputError, nothing was thrown";
-  return "";
 }
 
 // ------------------------------------------------------------------------------------------------
