@@ -77,7 +77,8 @@ void CoulombModel::evaluate(const std::vector<ContactFrame>& frames, const Terra
     tangentBasis(n, t1, t2, with_derivatives ? &dt1_dn : nullptr, with_derivatives ? &dt2_dn : nullptr);
     const double r = f.radius;
     const double d = std::max(0.0, r - q.distance);
-    const double dp1 = d > 0.0 ? std::pow(d, p - 1.0) : 0.0;  // d^{p−1}
+    // d^{p−1}; the usual integer exponents without pow().
+    const double dp1 = !(d > 0.0) ? 0.0 : p == 3.0 ? d * d : p == 2.0 ? d : std::pow(d, p - 1.0);
     const double s = k * (dp1 * d + params_.zeta);             // k (d^p + ζ)
     const Vec3 arm = -r * n;                                   // from the centre to the lowest point
 

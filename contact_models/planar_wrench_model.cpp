@@ -98,27 +98,57 @@ void PlanarWrenchModel::evaluate(const std::vector<ContactFrame>& frames, const 
   }
   function_->evaluate(features_, W_, with_derivatives ? &dW_dphi_ : nullptr, with_derivatives ? &dW_dbeta_ : nullptr);
 
+  // Per contact, in matrix form over the K vertices (rows of Wb: F_x, F_z, τ_y):
+  //   F = [x n] Wb(0:1),  τ = y Wb(2) + [arm]× F,
+  //   dF = [x n] dWb(0:1) + [dx dn] Wb(0:1),  dτ = y dWb(2) + dy Wb(2) + [darm]× F + [arm]× dF.
+  Eigen::Matrix<double, 3, Eigen::Dynamic>& Wb = planar_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic>& dWb = planar_d_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic>& F = force_;
+  Eigen::Matrix<double, 3, Eigen::Dynamic>& dF = force_d_;
+  Wb.resize(3, K);
+  dWb.resize(3, K);
+  F.resize(3, K);
+  dF.resize(3, K);
   for (int b = 0; b < B; ++b) {
     const PlanarFrame& f = frames_[b];
     ContactWrenches& o = out[b];
     double dsigma = 0.0;
     const double sigma = cutoffStep(geometry_, f.phi, &dsigma);
-    for (int j = 0; j < K; ++j) {
-      const double Fx = sigma * W_(b, 3 * j), Fz = sigma * W_(b, 3 * j + 1), ty = sigma * W_(b, 3 * j + 2);
-      const Vec3 F = Fx * f.x + Fz * f.n;
-      o.V.col(j).head<3>() = ty * f.y + f.arm.cross(F);
-      o.V.col(j).tail<3>() = F;
-      if (!with_derivatives) continue;
-      const Vec3 w(W_(b, 3 * j), W_(b, 3 * j + 1), W_(b, 3 * j + 2));
-      const Vec3 w_phi(dW_dphi_(b, 3 * j), dW_dphi_(b, 3 * j + 1), dW_dphi_(b, 3 * j + 2));
-      const Vec3 w_beta(dW_dbeta_(b, 3 * j), dW_dbeta_(b, 3 * j + 1), dW_dbeta_(b, 3 * j + 2));
-      for (int i = 0; i < 6; ++i) {
-        // (δF_x, δF_z, δτ_y) from the features, the cut-off step included.
-        const Vec3 dw = (dsigma * f.dphi[i]) * w + sigma * (f.dphi[i] * w_phi + f.dbeta[i] * w_beta);
-        const Vec3 dF = dw[0] * f.x + Fx * f.dx.col(i) + dw[1] * f.n + Fz * f.dn.col(i);
-        o.dV[i].col(j).head<3>() = dw[2] * f.y + ty * f.dy.col(i) + f.darm.col(i).cross(F) + f.arm.cross(dF);
-        o.dV[i].col(j).tail<3>() = dF;
-      }
+    Wb = sigma * Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>, 0, Eigen::InnerStride<>>(
+                     W_.data() + b, 3, K, Eigen::InnerStride<>(static_cast<Eigen::Index>(W_.rows())));
+    Eigen::Matrix<double, 3, 2> xn;
+    xn << f.x, f.n;
+    F.noalias() = xn * Wb.topRows<2>();
+    o.V.topRows<3>().noalias() = f.y * Wb.row(2);
+    o.V.topRows<3>().noalias() += skew(f.arm) * F;
+    o.V.bottomRows<3>() = F;
+    if (!with_derivatives) continue;
+    // Contiguous copies of this contact's rows, so the six direction updates vectorize.
+    using Strided = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>, 0, Eigen::InnerStride<>>;
+    const Eigen::InnerStride<> stride(static_cast<Eigen::Index>(W_.rows()));
+    raw_.resize(3, K);
+    raw_phi_.resize(3, K);
+    raw_beta_.resize(3, K);
+    raw_ = Strided(W_.data() + b, 3, K, stride);
+    raw_phi_ = Strided(dW_dphi_.data() + b, 3, K, stride);
+    raw_beta_ = Strided(dW_dbeta_.data() + b, 3, K, stride);
+    const auto& Wraw = raw_;
+    const auto& Wphi = raw_phi_;
+    const auto& Wbeta = raw_beta_;
+    const Mat3 arm_x = skew(f.arm);
+    for (int i = 0; i < 6; ++i) {
+      // (δF_x, δF_z, δτ_y) from the features, the cut-off step included.
+      dWb = (dsigma * f.dphi[i]) * Wraw + (sigma * f.dphi[i]) * Wphi + (sigma * f.dbeta[i]) * Wbeta;
+      Eigen::Matrix<double, 3, 2> dxn;
+      dxn << f.dx.col(i), f.dn.col(i);
+      dF.noalias() = xn * dWb.topRows<2>();
+      dF.noalias() += dxn * Wb.topRows<2>();
+      Mat6X& d = o.dV[i];
+      d.topRows<3>().noalias() = f.y * dWb.row(2);
+      d.topRows<3>().noalias() += f.dy.col(i) * Wb.row(2);
+      d.topRows<3>().noalias() += skew(f.darm.col(i)) * F;
+      d.topRows<3>().noalias() += arm_x * dF;
+      d.bottomRows<3>() = dF;
     }
   }
 }

@@ -79,6 +79,7 @@ class PlanarWrenchModel : public ContactModel {
   mutable std::vector<PlanarFrame> frames_;
   mutable Eigen::MatrixX2d features_;
   mutable Eigen::MatrixXd W_, dW_dphi_, dW_dbeta_;
+  mutable Eigen::Matrix<double, 3, Eigen::Dynamic> planar_, planar_d_, force_, force_d_, raw_, raw_phi_, raw_beta_;
 };
 
 }  // namespace nmdp
