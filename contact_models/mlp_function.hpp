@@ -40,7 +40,8 @@
 //     Analytic. The tests check it against both autograd schemes and central differences.
 //   Reverse mode with one-hot output seeds would need the batch stacked 3K times (≈ 20× slower
 //   than ForwardMode, measured: 5.4 ms against 0.24 ms for 4 rows), so it is not offered.
-// All schemes return values bit-identical to the value-only pass.
+// All schemes return the same values bit for bit (tested); the value-only pass agrees with them to
+// round-off, since the BLAS may pick a different kernel for its smaller batch.
 //
 // Threads and determinism: constructing an MlpFunction calls torch::set_num_threads(1), which is
 // PROCESS-GLOBAL in libtorch (it also affects e.g. a trainer in the same process; a trainer that

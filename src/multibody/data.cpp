@@ -16,7 +16,6 @@ Data::Data(const Model& model) {
   H = Eigen::MatrixXd::Zero(n, n);
   dtau_dq = Eigen::MatrixXd::Zero(n, n);
   dtau_dv = Eigen::MatrixXd::Zero(n, n);
-  F.assign(n, Vec6::Zero());
   hc.assign(n, Vec6::Zero());
   Bc.assign(n, Mat6::Zero());
   u_dq.assign(n, Vec6::Zero());

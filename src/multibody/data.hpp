@@ -20,7 +20,8 @@ struct Data {
   std::vector<Vec6> S;
 
   // rnea / rneaDerivatives: world spatial velocity, acceleration (gravity included as a base
-  // acceleration), world spatial inertia about the origin, body force.
+  // acceleration), world spatial inertia about the origin, and f: after RNEA's backward pass, the
+  // composite force of each body's subtree.
   std::vector<Vec6> v, a;
   std::vector<Mat6> Iw;
   std::vector<Vec6> f;
@@ -32,7 +33,6 @@ struct Data {
 
   // rneaDerivatives: ∂τ/∂q, ∂τ/∂q̇ (∂τ/∂q̈ = H).
   Eigen::MatrixXd dtau_dq, dtau_dv;
-  std::vector<Vec6> F;            // composite force of each subtree
   std::vector<Vec6> hc;           // composite momentum Σ I_i v_i
   std::vector<Mat6> Bc;           // composite inertia rate Σ (crf(v_i) I_i − I_i crm(v_i))
   std::vector<Vec6> u_dq, x_dq;   // per-body seeds of the q-derivative
