@@ -1,0 +1,202 @@
+#include "solver/integrator.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+
+#include "multibody/kinematics.hpp"
+
+namespace nmdp {
+
+namespace {
+
+constexpr struct {
+  Method method;
+  const char* name;
+} kMethods[] = {{Method::NePgm, "ne-pgm"},
+                {Method::NeZopgm, "ne-zopgm"},
+                {Method::PbdPgm, "pbd-pgm"},
+                {Method::PbdZopgm, "pbd-zopgm"},
+                {Method::NeMdp, "ne-mdp"}};
+
+// Base angles (x, y, z) of R = Rx(a) Ry(b) Rz(c).
+Vec3 xyzAngles(const Mat3& R) {
+  return Vec3(std::atan2(-R(1, 2), R(2, 2)), std::asin(std::clamp(R(0, 2), -1.0, 1.0)), std::atan2(-R(0, 1), R(0, 0)));
+}
+
+Mat3 xyzRotation(const Eigen::VectorXd& q) {
+  return rotationAbout(Vec3::UnitX(), q[3]) * rotationAbout(Vec3::UnitY(), q[4]) * rotationAbout(Vec3::UnitZ(), q[5]);
+}
+
+// The middle base angle approaches gimbal lock at ±π/2; re-centre the chart well before.
+constexpr double kRebaseAngle = 0.75;
+
+void rebaseIfNeeded(const Model& model, Data& data, SimulationState& state) {
+  if (model.base != BaseType::Floating) return;
+  if (std::abs(state.q[4]) < kRebaseAngle) return;
+  const Mat3 old_chart = state.base_chart;
+  const Mat3 R_prev = old_chart * xyzRotation(state.q_prev);
+  data.base_chart = old_chart;
+  rebaseFloatingChart(model, data, state.q, state.qd);
+  state.base_chart = data.base_chart;
+  state.q_prev.segment<3>(3) = xyzAngles(state.base_chart.transpose() * R_prev);
+}
+
+struct Recursion {
+  const System& system;
+  const IntegratorOptions& options;
+  const PdTargetSource& targets;
+  SimulationState& state;
+  StepWorkspace& ws;
+  StepStats& stats;
+
+  bool step(double h) {
+    targets.evaluate(state.time + h, ws.target);
+    StepSolver& solver = ws.solver;
+    const Eigen::VectorXd& w_start = options.warm_start_weights ? state.w : ws.zero_weights;
+    const StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, state.beta);
+    stats.outer_iterations += a.outer_iterations;
+    stats.g_evaluations += a.g_evaluations;
+    stats.projections += a.projections;
+    stats.newton_iterations += a.newton_iterations;
+    stats.rejected += a.rejected;
+    if (a.status == StepStatus::Converged) {
+      accept(h);
+      return true;
+    }
+    if (!options.adaptive || 0.5 * h < options.min_substep) {
+      stats.status = a.status;
+      return false;
+    }
+    return step(0.5 * h) && step(0.5 * h);
+  }
+
+  void accept(double h) {
+    const StepSolver& solver = ws.solver;
+    state.q_prev.swap(state.q);
+    state.q = solver.theta();
+    state.qd = solver.velocity();
+    state.h_prev = h;
+    state.time += h;
+    state.w = solver.weights();
+    bool in_contact = false;
+    for (size_t c = 0; c < ws.impulse.size(); ++c) {
+      const Vec6 f = solver.contactWrench(static_cast<int>(c));
+      ws.impulse[c] += h * f;
+      in_contact = in_contact || !f.isZero(0.0);
+    }
+    ws.substep_sizes.push_back(h);
+    ws.substep_in_contact.push_back(in_contact ? 1 : 0);
+    ++stats.substeps;
+    stats.min_substep = stats.substeps == 1 ? h : std::min(stats.min_substep, h);
+  }
+};
+
+}  // namespace
+
+const char* methodName(Method method) {
+  for (const auto& m : kMethods)
+    if (m.method == method) return m.name;
+  return "unknown";
+}
+
+std::optional<Method> parseMethod(const std::string& name) {
+  for (const auto& m : kMethods)
+    if (name == m.name) return m.method;
+  return std::nullopt;
+}
+
+const std::vector<std::string>& methodNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> v;
+    for (const auto& m : kMethods) v.emplace_back(m.name);
+    return v;
+  }();
+  return names;
+}
+
+const char* toString(StepStatus status) {
+  switch (status) {
+    case StepStatus::Converged: return "converged";
+    case StepStatus::ProjectionFailed: return "manifold projection diverged";
+    case StepStatus::TrustRegionFailed: return "trust-region penalty exceeded beta_max";
+    case StepStatus::MaxIterations: return "outer-iteration limit reached";
+    case StepStatus::QpFailed: return "contact QP failed";
+    case StepStatus::NonFinite: return "non-finite state";
+  }
+  return "unknown";
+}
+
+void validateSystem(const System& system, const IntegratorOptions& options) {
+  if (!system.model) throw std::invalid_argument("integrator: no robot model");
+  const Model& model = *system.model;
+  validatePdGains(model, system.gains);
+  if (system.external_force.size() != 0 && system.external_force.size() != model.nq)
+    throw std::invalid_argument("integrator: external_force has " + std::to_string(system.external_force.size()) +
+                                " entries, the robot has " + std::to_string(model.nq) + " coordinates");
+  if (!system.contacts.empty() && (!system.contact_model || !system.terrain))
+    throw std::invalid_argument("integrator: contacts need a contact model and a terrain");
+  for (const ContactPoint& c : system.contacts)
+    if (c.link < 0 || c.link >= static_cast<int>(model.links.size()))
+      throw std::invalid_argument("integrator: contact '" + c.name + "' has no valid link");
+  if (!system.contacts.empty() && needsContactDerivative(options.method) &&
+      system.contact_model->derivative() == DerivativeSupport::None) {
+    const Method twin = options.method == Method::NePgm ? Method::NeZopgm : Method::PbdZopgm;
+    throw std::invalid_argument(std::string("integrator: method ") + methodName(options.method) +
+                                " needs the contact model's derivative, and " + system.contact_model->describe() +
+                                " has none; use " + methodName(twin) + " (zeroth order) instead");
+  }
+  if (!(options.min_substep > 0) || !(options.eta > 1) || !(options.beta_min > 0) ||
+      !(options.beta_max >= options.beta_min) || !(options.tol_w > 0) || !(options.epsilon > 0) ||
+      options.max_outer_iterations < 1 || options.projection_max_iterations < 1 || !(options.projection_tolerance > 0))
+    throw std::invalid_argument("integrator: options out of range (need min_substep, tol_w, epsilon, beta_min, "
+                                "projection_tolerance > 0, eta > 1, beta_max >= beta_min, iteration limits >= 1)");
+}
+
+SimulationState initialState(const System& system, const IntegratorOptions& options, const Eigen::VectorXd& q,
+                             const Eigen::VectorXd& qd, double h) {
+  SimulationState s;
+  s.q = q;
+  s.qd = qd;
+  s.q_prev = q - h * qd;
+  s.h_prev = h;
+  s.beta = options.beta_initial;
+  const int K = (system.contacts.empty() || !system.contact_model) ? 0 : system.contact_model->vertexCount();
+  s.w.setZero(static_cast<Eigen::Index>(system.contacts.size()) * K);
+  return s;
+}
+
+StepWorkspace::StepWorkspace(const System& system, const IntegratorOptions& options)
+    : solver((validateSystem(system, options), system), options) {
+  const int n = system.model->nq;
+  contact_wrench.assign(system.contacts.size(), Vec6::Zero());
+  impulse.assign(system.contacts.size(), Vec6::Zero());
+  // Enough for any split down to 2⁻¹⁰ of a step; deeper splits grow the buffers once.
+  substep_sizes.reserve(1024);
+  substep_in_contact.reserve(1024);
+  target.position.setZero(n);
+  target.velocity.setZero(n);
+  zero_weights.setZero(solver.residual().weightCount());
+}
+
+StepStats advance(const System& system, const IntegratorOptions& options, const PdTargetSource& targets,
+                  SimulationState& state, double dt, StepWorkspace& workspace) {
+  const auto start = std::chrono::steady_clock::now();
+  StepStats stats;
+  workspace.substep_sizes.clear();
+  workspace.substep_in_contact.clear();
+  for (Vec6& i : workspace.impulse) i.setZero();
+  rebaseIfNeeded(*system.model, workspace.solver.residual().data, state);
+  const double t0 = state.time;
+  Recursion recursion{system, options, targets, state, workspace, stats};
+  const bool ok = recursion.step(dt);
+  stats.converged = ok;
+  if (ok) stats.status = StepStatus::Converged;
+  const double elapsed = state.time - t0;
+  for (size_t c = 0; c < workspace.impulse.size(); ++c)
+    workspace.contact_wrench[c] = elapsed > 0 ? Vec6(workspace.impulse[c] / elapsed) : Vec6::Zero();
+  stats.wall_time = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return stats;
+}
+
+}  // namespace nmdp

@@ -1,0 +1,39 @@
+// One time step of any of the five methods, with Algorithm 2 adaptive sub-stepping (DESIGN.md 4):
+//
+//   Step(h):  if the method succeeds at h → advance the state
+//             else if h/2 < min_substep → fail
+//             else Step(h/2); Step(h/2)
+//
+// Every sub-step is a complete step of its own size h (θ̇ = (θ − q_n)/h, PBD α = h/h_prev, PD target
+// at t + h), so a split trajectory is exactly the trajectory of the smaller steps. On failure the
+// state is left at the last accepted sub-step and the status says why. Nothing prints.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "control/pd_target_source.hpp"
+#include "solver/integrator_types.hpp"
+#include "solver/step_solver.hpp"
+
+namespace nmdp {
+
+// Every buffer one step needs, sized once for a system and method.
+struct StepWorkspace {
+  StepWorkspace(const System& system, const IntegratorOptions& options);
+  StepSolver solver;
+  // Contact wrenches [torque about the sphere centre; force] (world) of the last step, averaged over
+  // its sub-steps weighted by their duration (impulse / dt).
+  std::vector<Vec6> contact_wrench;
+  // Accepted sub-steps of the last step, in order (size() == stats.substeps).
+  std::vector<double> substep_sizes;
+  std::vector<std::uint8_t> substep_in_contact;  // any contact force nonzero in that sub-step
+  PdTarget target;                 // scratch for the PD target
+  std::vector<Vec6> impulse;       // scratch
+  Eigen::VectorXd zero_weights;    // cold start
+};
+
+// Advances `state` by dt (or as far as it got, on failure). Returns the status and statistics.
+StepStats advance(const System& system, const IntegratorOptions& options, const PdTargetSource& targets,
+                  SimulationState& state, double dt, StepWorkspace& workspace);
+
+}  // namespace nmdp

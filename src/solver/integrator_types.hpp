@@ -1,0 +1,101 @@
+// What one time step of the integrator needs and returns (DESIGN.md 2-6): the method, its options,
+// the system being simulated, the state carried from step to step, and per-step statistics.
+#pragma once
+#include <Eigen/Core>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "contact_models/contact_model.hpp"
+#include "control/stable_pd.hpp"
+#include "multibody/model.hpp"
+#include "solver/contact_kinematics.hpp"
+#include "terrain/terrain.hpp"
+
+namespace nmdp {
+
+// The five methods of the toolkit, by their scene names.
+enum class Method { NePgm, NeZopgm, PbdPgm, PbdZopgm, NeMdp };
+
+const char* methodName(Method method);               // "ne-pgm", ...
+std::optional<Method> parseMethod(const std::string& name);
+const std::vector<std::string>& methodNames();       // every valid name, for messages
+inline bool isPositionBased(Method m) { return m == Method::PbdPgm || m == Method::PbdZopgm; }
+inline bool isZeroOrder(Method m) { return m == Method::NeZopgm || m == Method::PbdZopgm; }
+// Whether the method evaluates the contact model's derivative dV/dξ.
+inline bool needsContactDerivative(Method m) { return m == Method::NePgm || m == Method::PbdPgm; }
+
+struct IntegratorOptions {
+  Method method = Method::NePgm;
+  bool adaptive = true;          // Algorithm 2: halve a failed step down to min_substep
+  double min_substep = 1e-5;     // s
+  // Projected gradient method (DESIGN.md 3).
+  double epsilon = 1e-6;         // accept-and-stop threshold on the K decrease (J) and on ‖Δθ‖∞
+  double tol_w = 1e-8;           // stop when ‖Δw‖∞ < tol_w
+  double eta = 1.5;              // trust-region growth / shrink factor
+  double beta_min = 1e-4;
+  double beta_max = 1e6;
+  double beta_initial = 1e-4;    // β of the first step; later steps inherit it (SimulationState::beta)
+  int max_outer_iterations = 100;
+  // Manifold projection: Newton on G(·, w) = 0.
+  double projection_tolerance = 1e-9;  // ‖G‖∞ relative to the robot's weight m‖g‖ (or m·1 m/s²)
+  int projection_max_iterations = 30;
+  // Start each step from the previous step's contact weights instead of w = 0 (both are feasible).
+  bool warm_start_weights = true;
+};
+
+// The simulated system: robot, contacts, contact model, terrain and joint gains. Referenced, not
+// owned; everything must outlive the workspaces built from it.
+struct System {
+  const Model* model = nullptr;
+  std::vector<ContactPoint> contacts;
+  const ContactModel* contact_model = nullptr;  // may be null when there are no contacts
+  const Terrain* terrain = nullptr;             // may be null when there are no contacts
+  PdGains gains;                                // sized nq (zero gains: a passive robot)
+  // Constant generalized force added to the actuation (e.g. a push on the base), sized nq or empty.
+  Eigen::VectorXd external_force;
+};
+
+// Throws std::invalid_argument naming the problem: sizes, missing contact model or terrain, or a
+// first-order method with a contact model that has no derivative (suggesting the zeroth-order twin).
+void validateSystem(const System& system, const IntegratorOptions& options);
+
+// What carries over from one step to the next.
+struct SimulationState {
+  double time = 0.0;
+  Eigen::VectorXd q, qd;   // configuration and velocity at `time`, in the chart base_chart
+  Eigen::VectorXd q_prev;  // configuration one (sub-)step earlier (PBD), same chart
+  double h_prev = 0.0;     // size of that (sub-)step
+  Mat3 base_chart = Mat3::Identity();  // floating base reference orientation (Data::base_chart)
+  double beta = 1e-4;      // trust-region penalty carried over between steps (DESIGN.md 3)
+  Eigen::VectorXd w;       // contact weights of the last sub-step (Σ K_c), the warm start
+};
+
+// Starts at (q, q̇) at time 0; q_prev = q − h q̇ so that PBD starts with the same velocity.
+SimulationState initialState(const System& system, const IntegratorOptions& options, const Eigen::VectorXd& q,
+                             const Eigen::VectorXd& qd, double h);
+
+enum class StepStatus {
+  Converged,           // the step (every sub-step) converged
+  ProjectionFailed,    // Newton on G(·, w) = 0 diverged at the smallest allowed sub-step
+  TrustRegionFailed,   // β exceeded β_max
+  MaxIterations,       // outer-iteration cap reached
+  QpFailed,            // the capped-simplex QP failed
+  NonFinite,           // a NaN or infinity appeared (state, model output)
+};
+const char* toString(StepStatus status);
+
+struct StepStats {
+  StepStatus status = StepStatus::Converged;
+  bool converged = false;
+  int outer_iterations = 0;  // summed over sub-steps and failed attempts
+  int g_evaluations = 0;     // evaluations of G (each with its θ-Jacobian)
+  int projections = 0;       // calls of the manifold projection
+  int newton_iterations = 0;
+  int rejected = 0;          // outer iterations rejected by the trust region
+  int substeps = 0;          // accepted sub-steps (1 when no split happened)
+  double min_substep = 0.0;  // smallest accepted sub-step (s)
+  double wall_time = 0.0;    // s
+};
+
+}  // namespace nmdp

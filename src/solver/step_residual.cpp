@@ -1,0 +1,139 @@
+#include "solver/step_residual.hpp"
+
+#include "multibody/kinematics.hpp"
+#include "solver/ne_residual.hpp"
+
+namespace nmdp {
+
+StepResidual::StepResidual(const System& system) : data(*system.model), data_prev_(*system.model) {
+  const Model& model = *system.model;
+  n_ = model.nq;
+  const int C = static_cast<int>(system.contacts.size());
+  K_vertices_ = (C > 0 && system.contact_model) ? system.contact_model->vertexCount() : 0;
+  m_ = C * K_vertices_;
+  G.setZero(n_);
+  dG_dtheta.setZero(n_, n_);
+  B.setZero(n_, m_);
+  grad_K.setZero(n_);
+  hess_K.setZero(n_, n_);
+  frames.resize(C);
+  wrenches.resize(C);
+  for (ContactWrenches& cw : wrenches) cw.resize(K_vertices_);
+  jacobians.assign(C, Mat6X::Zero(6, n_));
+  q_n_.setZero(n_);
+  qd_n_.setZero(n_);
+  target_.position.setZero(n_);
+  target_.velocity.setZero(n_);
+  pd_hessian_.setZero(n_);
+  work_.setZero(n_);
+  work2_.setZero(n_);
+  hess_work_.setZero(n_, n_);
+  vertex_jacobian_.setZero(6, n_);
+  transforms_n_.resize(n_);
+  transforms_prev_.resize(n_);
+  inertial_targets_.resize(n_);
+  armature_target_.setZero(n_);
+}
+
+void StepResidual::prepare(const System& system, Form form, double h, const Eigen::VectorXd& q_n,
+                           const Eigen::VectorXd& qd_n, const Eigen::VectorXd& q_prev, double h_prev,
+                           const PdTarget& target, const Mat3& base_chart) {
+  const Model& model = *system.model;
+  form_ = form;
+  h_ = h;
+  q_n_ = q_n;
+  qd_n_ = qd_n;
+  target_.position = target.position;
+  target_.velocity = target.velocity;
+  data.base_chart = base_chart;
+  pdPotentialHessianDiagonal(system.gains, h, pd_hessian_);
+  if (form != Form::PositionBased) return;
+  const double alpha = h / h_prev;
+  data_prev_.base_chart = base_chart;
+  forwardKinematics(model, data_prev_, q_n);
+  bodyTransforms(model, data_prev_, transforms_n_);
+  forwardKinematics(model, data_prev_, q_prev);
+  bodyTransforms(model, data_prev_, transforms_prev_);
+  inertialTargets(transforms_n_, transforms_prev_, alpha, inertial_targets_);
+  armature_target_ = (1.0 + alpha) * q_n - alpha * q_prev;
+}
+
+void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
+                            bool first_order) {
+  const Model& model = *system.model;
+  const double inv_h2 = 1.0 / (h_ * h_);
+  if (form_ == Form::NewtonEuler) {
+    neInertialResidual(model, data, theta, q_n_, qd_n_, h_, G, &dG_dtheta);
+    pdTorque(system.gains, target_, theta, q_n_, h_, work_);
+    G -= work_;
+    if (system.external_force.size() != 0) G -= system.external_force;
+    dG_dtheta.diagonal() += pd_hessian_;
+    // data.qd_work = θ̇ and data.H = H(θ) after neInertialResidual.
+    work_.noalias() = data.H * data.qd_work;
+    K = 0.5 * data.qd_work.dot(work_);
+    grad_K = work_ / h_;
+    hess_K = data.H * inv_h2;
+  } else {
+    forwardKinematics(model, data, theta);
+    transformEnergy(model, data, inertial_targets_, h_, &G, &dG_dtheta);
+    gravityPotential(model, data, &work_, &hess_work_);
+    G += work_;
+    dG_dtheta += hess_work_;
+    pdPotentialGradient(system.gains, target_, theta, q_n_, h_, work_);
+    G += work_;
+    if (system.external_force.size() != 0) G -= system.external_force;
+    dG_dtheta.diagonal() += pd_hessian_;
+    K = transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K);
+    for (int j = 0; j < n_; ++j) {
+      const double a = model.bodies[j].armature;
+      if (a == 0.0) continue;
+      const double inertial = theta[j] - armature_target_[j], kinetic = theta[j] - q_n_[j];
+      G[j] += a * inertial * inv_h2;
+      dG_dtheta(j, j) += a * inv_h2;
+      K += 0.5 * a * kinetic * kinetic * inv_h2;
+      grad_K[j] += a * kinetic * inv_h2;
+      hess_K(j, j) += a * inv_h2;
+    }
+  }
+  if (m_ > 0) addContacts(system, w, first_order);
+}
+
+void StepResidual::evaluateContacts(const System& system, const Eigen::VectorXd& q) {
+  forwardKinematics(*system.model, data, q);
+  if (m_ > 0) contactGeometry(system, false);
+}
+
+void StepResidual::contactGeometry(const System& system, bool with_derivatives) {
+  const Model& model = *system.model;
+  const int C = static_cast<int>(system.contacts.size());
+  for (int c = 0; c < C; ++c) {
+    contactFrame(model, data, system.contacts[c], frames[c]);
+    contactJacobian(model, data, system.contacts[c], jacobians[c]);
+  }
+  system.contact_model->evaluate(frames, *system.terrain, wrenches, with_derivatives);
+  for (int c = 0; c < C; ++c)
+    B.middleCols(c * K_vertices_, K_vertices_).noalias() = jacobians[c].transpose() * wrenches[c].V;
+}
+
+void StepResidual::addContacts(const System& system, const Eigen::VectorXd& w, bool first_order) {
+  const Model& model = *system.model;
+  contactGeometry(system, first_order);
+  const int C = static_cast<int>(system.contacts.size());
+  for (int c = 0; c < C; ++c) {
+    const Mat6X& J = jacobians[c];
+    const auto w_c = w.segment(c * K_vertices_, K_vertices_);
+    const Vec6 f = wrenches[c].V * w_c;
+    G.noalias() -= J.transpose() * f;
+    const int body = model.links[system.contacts[c].link].body;
+    if (body < 0) continue;  // welded to the world: J = 0
+    addJacobianTransposeWrenchDerivative(model, data, body, frames[c].position, -f, dG_dtheta);
+    if (!first_order) continue;
+    // ∂(V_c w_c)/∂θ = [dV/dξ_0 w_c, …, dV/dξ_5 w_c] J_c
+    Mat6 df_dxi;
+    for (int i = 0; i < 6; ++i) df_dxi.col(i).noalias() = wrenches[c].dV[i] * w_c;
+    vertex_jacobian_.noalias() = df_dxi * J;
+    dG_dtheta.noalias() -= J.transpose() * vertex_jacobian_;
+  }
+}
+
+}  // namespace nmdp

@@ -1,0 +1,75 @@
+// The residual G(θ, w) of one step and everything the projected gradient method needs from it
+// (DESIGN.md 2, 3), in either form:
+//
+//   NE   G = RNEA(θ, θ̇, θ̈) − Σ_c J_cᵀ V_c(θ) w_c − τ(θ),       K = ½ θ̇ᵀ H(θ) θ̇
+//   PBD  G = ∇I(θ) + ∇U(θ) + ∇P(θ) − Σ_c J_cᵀ V_c(θ) w_c,      K = (1/2h²) Σ_k tr(B_k M̄_k B_kᵀ)
+//
+// with ∂G/∂θ either exact (first order: includes Σ J_cᵀ (∂V_c/∂θ) w_c, which needs the model's
+// dV/dξ) or zeroth order (∂Ḡ/∂θ: that term dropped; the model's derivative is never requested).
+// The (∂J_cᵀ/∂θ) V_c w_c term needs no model derivative and is in both. A constant generalized
+// force System::external_force is subtracted from G in both forms.
+//
+// NE: ∇K = H θ̇ / h and ∇²K = H / h² (Gauss–Newton, the ∂H/∂θ terms dropped, DESIGN.md 2.1).
+// PBD: K, ∇K, ∇²K exact. Armature (rotor inertia) enters the PBD energies as ½ a_j (Δθ_j)²/h² so
+// both forms integrate the same H.
+#pragma once
+#include <vector>
+
+#include "multibody/data.hpp"
+#include "multibody/pbd_terms.hpp"
+#include "solver/integrator_types.hpp"
+
+namespace nmdp {
+
+enum class Form { NewtonEuler, PositionBased };
+
+class StepResidual {
+ public:
+  explicit StepResidual(const System& system);
+
+  // Fixes the data of one attempt of size h from (q_n, q̇_n) (NE) or (q_n, q_prev, h_prev) (PBD),
+  // with the PD target at the end of the step and the floating-base chart of the state.
+  void prepare(const System& system, Form form, double h, const Eigen::VectorXd& q_n, const Eigen::VectorXd& qd_n,
+               const Eigen::VectorXd& q_prev, double h_prev, const PdTarget& target, const Mat3& base_chart);
+
+  // G, ∂G/∂θ (exact if first_order, else ∂Ḡ/∂θ), B = Σ J_cᵀ V_c = −∂G/∂w, K, ∇K, ∇²K at (θ, w).
+  void evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w, bool first_order);
+
+  // Kinematics, contact frames, Jacobians, V_c (no derivative) and B at q only (ne-mdp).
+  void evaluateContacts(const System& system, const Eigen::VectorXd& q);
+
+  Form form() const { return form_; }
+  double h() const { return h_; }
+  int weightCount() const { return m_; }
+
+  // Outputs of evaluate().
+  Eigen::VectorXd G;
+  Eigen::MatrixXd dG_dtheta;  // n×n
+  Eigen::MatrixXd B;          // n×m, column block c = J_cᵀ V_c
+  double K = 0.0;
+  Eigen::VectorXd grad_K;
+  Eigen::MatrixXd hess_K;
+  std::vector<ContactFrame> frames;
+  std::vector<ContactWrenches> wrenches;  // V_c (and dV/dξ when first order)
+  std::vector<Mat6X> jacobians;           // J_c (6×n)
+
+  Data data;
+
+ private:
+  void addContacts(const System& system, const Eigen::VectorXd& w, bool first_order);
+  void contactGeometry(const System& system, bool with_derivatives);  // frames, J_c, V_c, B
+
+  Form form_ = Form::NewtonEuler;
+  double h_ = 0.0;
+  int n_ = 0, m_ = 0, K_vertices_ = 0;
+  Eigen::VectorXd q_n_, qd_n_;
+  PdTarget target_;
+  Eigen::VectorXd pd_hessian_, work_, work2_;
+  Eigen::MatrixXd hess_work_;
+  Eigen::MatrixXd vertex_jacobian_;  // 6×n: ∂(V_c w_c)/∂θ
+  BodyTransforms transforms_n_, transforms_prev_, inertial_targets_;
+  Eigen::VectorXd armature_target_;
+  Data data_prev_;  // kinematics of q_n and q_prev (PBD targets)
+};
+
+}  // namespace nmdp

@@ -1,0 +1,76 @@
+// One attempt at a step of a given size h, by any of the five methods:
+//
+// NMDP (ne-pgm, ne-zopgm, pbd-pgm, pbd-zopgm), Algorithm 1 of the paper as fixed by DESIGN.md 3:
+//   θ ← q_n, w ← w_start;  θ ← Proj(θ, w)
+//   repeat:  D = (∂G/∂θ)⁻¹ B  (B = −∂G/∂w),  g = Dᵀ∇K,  Q = Dᵀ ∇²K D
+//            Δw = argmin gᵀΔw + ½ Δwᵀ(Q + βI)Δw  over the capped simplices (CappedSimplexQp)
+//            ‖Δw‖∞ < tol_w → done
+//            θ' = Proj(θ, w + Δw);  fails or K(θ') ≥ K(θ) → β ← ηβ (fail past β_max), same D
+//            else accept; β ← max(β/η, β_min); done if K(θ) − K(θ') < ε or ‖θ' − θ‖∞ < ε
+// The zeroth-order variants use ∂Ḡ/∂θ (no contact-model derivative) in D and in Newton.
+//
+// Proj(θ, w): Newton on G(·, w) = 0 with a full-pivoting LU (rank-revealing). A Newton step is
+// accepted only if ‖G‖∞ decreases; a full step that does not, a rank-deficient Jacobian, or the
+// iteration cap is divergence. Converged when ‖G‖∞ ≤ projection_tolerance · m‖g‖ plus a
+// round-off allowance that grows as 1/h² (the inertial term is (θ − q_n)/h² and θ carries round-off).
+//
+// ne-mdp (DESIGN.md 6): explicit PD and dynamics at (q_n, q̇_n), vertices at q_n, one QP for the
+// weights that minimise the kinetic energy of the post-contact velocity, symplectic Euler update.
+//
+// All buffers are sized in the constructor; attempt() allocates nothing.
+#pragma once
+#include <Eigen/Cholesky>
+#include <Eigen/LU>
+
+#include "solver/capped_simplex_qp.hpp"
+#include "solver/step_residual.hpp"
+
+namespace nmdp {
+
+struct StepAttempt {
+  StepStatus status = StepStatus::Converged;
+  int outer_iterations = 0, g_evaluations = 0, projections = 0, newton_iterations = 0, rejected = 0;
+};
+
+class StepSolver {
+ public:
+  StepSolver(const System& system, const IntegratorOptions& options);
+
+  // Tries one step of size h from `state` with the PD target at state.time + h; w_start is the
+  // initial weight vector (feasible; zeros for a cold start). `beta` is read and updated.
+  // On success theta(), velocity(), weights() and contactWrench(c) hold the solution.
+  StepAttempt attempt(const System& system, const IntegratorOptions& options, const SimulationState& state, double h,
+                      const PdTarget& target, const Eigen::VectorXd& w_start, double& beta);
+
+  const Eigen::VectorXd& theta() const { return theta_; }
+  const Eigen::VectorXd& velocity() const { return velocity_; }
+  const Eigen::VectorXd& weights() const { return w_; }
+  Vec6 contactWrench(int c) const;  // V_c(θ) w_c, [torque about the sphere centre; force], world
+  StepResidual& residual() { return residual_; }
+
+ private:
+  StepAttempt pgm(const System& system, const IntegratorOptions& options, const SimulationState& state, double h,
+                  const PdTarget& target, const Eigen::VectorXd& w_start, double& beta);
+  StepAttempt neMdp(const System& system, const SimulationState& state, double h, const PdTarget& target,
+                    const Eigen::VectorXd& w_start);
+  // Newton on G(·, w) = 0 from θ (in place). On success the residual holds the evaluation at θ.
+  bool project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
+               const Eigen::VectorXd& w, bool first_order, StepAttempt& stats);
+  // x = (∂G/∂θ)⁻¹ b in place, with the current factorization.
+  template <typename Derived>
+  void solveInPlace(Eigen::MatrixBase<Derived>& x);
+
+  StepResidual residual_;
+  CappedSimplexQp qp_;
+  QpActiveSet warm_;
+  bool warm_valid_ = false;
+  Eigen::FullPivLU<Eigen::MatrixXd> lu_;
+  Eigen::LLT<Eigen::MatrixXd> llt_;
+  Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
+  Eigen::MatrixXd D_, Q_, HD_;
+  double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
+  double mass_scale_ = 1.0;
+  int K_vertices_ = 0;
+};
+
+}  // namespace nmdp

@@ -1,0 +1,77 @@
+// The project's quadruped standing on flat ground under stable PD, with every method.
+#include <gtest/gtest.h>
+
+#include "contact_models/coulomb_model.hpp"
+#include "multibody/feet.hpp"
+#include "multibody/kinematics.hpp"
+#include "solver/integrator.hpp"
+#include "terrain/plane.hpp"
+#include "test_support.hpp"
+
+namespace nmdp {
+namespace {
+
+struct Quadruped {
+  Model model = loadUrdf(test::quadrupedUrdf(), {});
+  CoulombModel contact_model;
+  PlaneTerrain terrain;
+  System system;
+  Quadruped() {
+    system.model = &model;
+    for (const FootContact& f : detectFeet(model)) {
+      ContactPoint c;
+      c.name = f.link;
+      c.link = model.linkIndex(f.link);
+      c.offset = f.offset;
+      c.radius = f.radius;
+      system.contacts.push_back(c);
+    }
+    system.contact_model = &contact_model;
+    system.terrain = &terrain;
+    system.gains = defaultPdGains(model);
+  }
+  // Standing pose: legs straight, feet touching the ground.
+  Eigen::VectorXd standing() const {
+    Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nq);
+    Data data(model);
+    forwardKinematics(model, data, q);
+    double lowest = 1e9;
+    for (const ContactPoint& c : system.contacts)
+      lowest = std::min(lowest, linkPoint(model, data, c.link, c.offset).z() - c.radius);
+    q[2] = -lowest;
+    return q;
+  }
+};
+
+TEST(IntegratorQuadruped, StandsWithEveryMethod) {
+  for (const char* name : {"ne-pgm", "ne-zopgm", "pbd-pgm", "pbd-zopgm", "ne-mdp"}) {
+    SCOPED_TRACE(name);
+    Quadruped robot;
+    IntegratorOptions options;
+    options.method = *parseMethod(name);
+    const double dt = options.method == Method::NeMdp ? 0.001 : 0.05;
+    const Eigen::VectorXd q0 = robot.standing();
+    ConstantPdTarget target(q0);
+    StepWorkspace ws(robot.system, options);
+    SimulationState state = initialState(robot.system, options, q0, Eigen::VectorXd::Zero(q0.size()), dt);
+    const int steps = static_cast<int>(std::lround(2.0 / dt));
+    int outer = 0, substeps = 0;
+    double wall = 0;
+    for (int i = 0; i < steps; ++i) {
+      const StepStats s = advance(robot.system, options, target, state, dt, ws);
+      ASSERT_TRUE(s.converged) << "step " << i << ": " << toString(s.status);
+      outer += s.outer_iterations;
+      substeps += s.substeps;
+      wall += s.wall_time;
+    }
+    double fz = 0;
+    for (const Vec6& f : ws.contact_wrench) fz += f[5];
+    std::printf("%s: z %.5f (start %.5f) x %.2e fz %.4f mg %.4f outer/step %.2f substeps/step %.2f wall/step %.1f us\n",
+                name, state.q[2], q0[2], state.q[0], fz, robot.model.total_mass * 9.81, double(outer) / steps,
+                double(substeps) / steps, 1e6 * wall / steps);
+    EXPECT_NEAR(state.q[2], q0[2], 0.01);
+  }
+}
+
+}  // namespace
+}  // namespace nmdp
