@@ -1,0 +1,93 @@
+// Built-in gaits for any quadruped (DESIGN.md 5): stand, trot and jump.
+//
+// Each gait designs foot positions in the trunk frame (x forward, y left, z up; the root link
+// frame), turns them into joint targets by leg IK (control/leg_ik.hpp) at keyframes, and
+// interpolates those with cubic Hermite splines (control/hermite_spline.hpp). Base coordinates of
+// the targets are ignored by the PD controller (zero gains); they hold the standing values (base
+// height = standing height, everything else 0).
+//
+// Sizes are scaled to the robot by two lengths measured at q = 0 (the legs hanging straight):
+//   leg length L        mean distance from a leg's first joint to its foot sphere centre;
+//   straight height H0  mean height of the trunk origin above the feet's lowest points.
+#pragma once
+#include <Eigen/Core>
+#include <array>
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "control/hermite_spline.hpp"
+#include "control/leg_ik.hpp"
+
+namespace nmdp {
+
+// The standing pose every gait starts from and returns to.
+struct StandParameters {
+  // Height of the trunk origin above flat ground with all four feet on it, m.
+  // Default: 0.8·H0, or the height of nominal_q's feet when nominal_q is given.
+  std::optional<double> height;
+  // Nominal joint vector (nq): its feet fix the horizontal foot positions (and the vertical ones
+  // when height is unset) and it seeds the IK, so it picks the knee configuration. Empty: q = 0,
+  // i.e. feet straight under the hips, knees bent backward (or as the URDF's limits require).
+  Eigen::VectorXd nominal_q;
+};
+
+struct TrotParameters {
+  std::optional<double> stride_length;  // m, foot travel relative to the trunk per step; default 0.25·L
+  std::optional<double> step_height;    // m, foot lift at mid-swing; default 0.15·L
+  double period = 0.5;                  // s, one full cycle (both diagonal pairs step once)
+  double duty_factor = 0.5;             // fraction of the period a foot is on the ground, in (0, 1)
+  int keyframes_per_period = 16;        // IK keyframes (at least); phase events are always keyframes
+};
+
+struct JumpParameters {
+  std::optional<double> crouch_depth;    // m the trunk is lowered from standing; default 0.25·L
+  std::optional<double> push_off_height;  // m trunk height at full extension; default stand + 0.4·(H0 − stand)
+  double period = 1.0;                   // s, one crouch–extend–land–pause cycle
+  double pause = 0.4;                    // s standing still at the end of each cycle
+  // Shares of the moving time (period − pause): slow crouch, quick extension, rest to land.
+  double crouch_share = 0.6;
+  double extension_share = 0.15;
+};
+
+enum class GaitType { Stand, Trot, Jump };
+const char* gaitTypeName(GaitType type);             // "stand", "trot", "jump"
+GaitType parseGaitType(const std::string& name);     // throws std::invalid_argument listing the names
+
+struct GaitParameters {
+  GaitType type = GaitType::Stand;
+  StandParameters stand;  // shared by all gaits
+  TrotParameters trot;
+  JumpParameters jump;
+};
+
+// The robot's standing pose, with the lengths used for default gait sizes.
+struct StandingPose {
+  Eigen::VectorXd q;                // nq: base at (0, 0, height) level, legs by IK
+  double height = 0.0;              // trunk origin above the ground
+  std::array<Vec3, 4> feet;         // foot sphere centres in the trunk frame, by LegId
+  double leg_length = 0.0;          // L
+  double straight_height = 0.0;     // H0
+};
+
+// Throws std::invalid_argument when the robot is not a quadruped or the pose is out of reach.
+StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const StandParameters& stand);
+
+// The parameters with every unset size replaced by its default for this robot.
+TrotParameters withRobotDefaults(const TrotParameters& trot, const StandingPose& pose);
+JumpParameters withRobotDefaults(const JumpParameters& jump, const StandingPose& pose);
+
+// Foot displacement from its standing position (trunk frame) designed by the trot at phase
+// u ∈ [0, 1) of the leg's own cycle: swing on [0, 1 − duty) (lift by step height, move forward by
+// the stride), stance on [1 − duty, 1) (move back by the stride, on the ground). The diagonal
+// pair front left + hind right has u = t/period, the other pair is half a period later.
+Vec3 trotFootDisplacement(const TrotParameters& resolved, double u);
+double trotLegPhase(const TrotParameters& resolved, LegId leg, double t);
+
+// Builders; all throw std::invalid_argument naming the parameter for invalid or unreachable sizes.
+KeyframePdTarget makeStandTarget(const Model& model, const StandParameters& stand = {});
+KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot = {}, const StandParameters& stand = {});
+KeyframePdTarget makeJumpTarget(const Model& model, const JumpParameters& jump = {}, const StandParameters& stand = {});
+std::unique_ptr<PdTargetSource> makeGaitTarget(const Model& model, const GaitParameters& gait);
+
+}  // namespace nmdp

@@ -1,0 +1,441 @@
+// Gait targets (DESIGN.md 5): cubic Hermite keyframes whose velocity is the true time derivative,
+// leg IK on the project's quadruped, A1 and Solo-12, and the stand / trot / jump generators.
+#include <cmath>
+
+#include "control/gait.hpp"
+#include "control/hermite_spline.hpp"
+#include "control/leg_ik.hpp"
+#include "multibody/kinematics.hpp"
+#include "test_support.hpp"
+
+#define NMDP_COUNT_OPERATOR_NEW
+#define NMDP_COUNT_MALLOC
+#include "test_allocation_counter.hpp"
+
+namespace nmdp::test {
+namespace {
+
+constexpr double kDerivativeStep = 1e-6;  // s, central differences in time
+
+Eigen::VectorXd positionAt(const HermiteSpline& spline, double t) {
+  Eigen::VectorXd p, v;
+  spline.evaluate(t, p, v);
+  return p;
+}
+Eigen::VectorXd velocityAt(const HermiteSpline& spline, double t) {
+  Eigen::VectorXd p, v;
+  spline.evaluate(t, p, v);
+  return v;
+}
+Eigen::VectorXd centralVelocity(const HermiteSpline& spline, double t) {
+  return (positionAt(spline, t + kDerivativeStep) - positionAt(spline, t - kDerivativeStep)) / (2 * kDerivativeStep);
+}
+
+// Non-uniform durations (0.1 s to 2.3 s) make a missing division by the duration obvious.
+struct SplineCase {
+  std::vector<double> times{-0.4, -0.3, 0.4, 2.7, 3.0};
+  std::vector<Eigen::VectorXd> positions;
+  SplineCase() {
+    std::mt19937 rng(11);
+    for (size_t k = 0; k < times.size(); ++k) positions.push_back(randomVector(rng, 3, 2.0));
+  }
+};
+
+// Times to probe: keyframes, either side of them, and inside every segment.
+std::vector<double> probeTimes(const std::vector<double>& knots) {
+  std::vector<double> out;
+  for (size_t k = 0; k < knots.size(); ++k) {
+    out.push_back(knots[k]);
+    out.push_back(knots[k] + 1e-4);
+    out.push_back(knots[k] - 1e-4);
+    if (k + 1 < knots.size())
+      for (double s : {0.13, 0.5, 0.77}) out.push_back(knots[k] + s * (knots[k + 1] - knots[k]));
+  }
+  return out;
+}
+
+// ṗ against central differences of p. The spline is C¹ but not C² at the knots, so a difference
+// straddling a knot is off by up to step·max|p̈|/2; that bound (p̈ from wider second differences
+// either side) is added to the tolerance. A velocity that forgot to divide by the segment duration
+// is off by O(|ṗ|), far beyond it.
+void expectVelocityIsTimeDerivative(const HermiteSpline& spline, const std::vector<double>& times) {
+  constexpr double wide = 1e-4;
+  for (double t : times) {
+    const Eigen::VectorXd v = velocityAt(spline, t), fd = centralVelocity(spline, t);
+    double curvature = 0;
+    for (double side : {-1.0, 1.0}) {
+      const double c = t + side * 2 * wide;
+      const Eigen::VectorXd second =
+          (positionAt(spline, c + wide) - 2 * positionAt(spline, c) + positionAt(spline, c - wide)) / (wide * wide);
+      curvature = std::max(curvature, second.cwiseAbs().maxCoeff());
+    }
+    const double tolerance = 1e-7 * std::max(1.0, fd.cwiseAbs().maxCoeff()) + kDerivativeStep * curvature;
+    EXPECT_LT((v - fd).cwiseAbs().maxCoeff(), tolerance)
+        << "t = " << t << "\nvelocity " << v.transpose() << "\ncentral difference " << fd.transpose();
+  }
+}
+
+TEST(HermiteSpline, HitsKeyframesExactly) {
+  const SplineCase c;
+  for (SplineEndMode mode : {SplineEndMode::HoldEnds, SplineEndMode::Periodic}) {
+    const HermiteSpline spline(c.times, c.positions, {}, mode, 4.1);
+    for (size_t k = 0; k < c.times.size(); ++k)
+      EXPECT_EQ(positionAt(spline, c.times[k]), c.positions[k]) << "keyframe " << k;
+  }
+}
+
+TEST(HermiteSpline, VelocityIsTheTimeDerivativeOfPosition) {
+  const SplineCase c;
+  const HermiteSpline automatic(c.times, c.positions);
+  expectVelocityIsTimeDerivative(automatic, probeTimes(c.times));
+
+  std::mt19937 rng(5);
+  std::vector<Eigen::VectorXd> velocities;
+  for (size_t k = 0; k < c.times.size(); ++k) velocities.push_back(randomVector(rng, 3, 3.0));
+  const HermiteSpline given(c.times, c.positions, velocities);
+  // Holding the end positions with nonzero given end velocities makes ṗ jump at the two ends.
+  std::vector<double> inside;
+  for (double t : probeTimes(c.times))
+    if (t > c.times.front() + 1e-5 && t < c.times.back() - 1e-5) inside.push_back(t);
+  expectVelocityIsTimeDerivative(given, inside);
+  for (size_t k = 0; k < c.times.size(); ++k) {
+    EXPECT_EQ(given.slope(static_cast<int>(k)), velocities[k]);
+    if (k > 0 && k + 1 < c.times.size()) {  // ends hold: velocity 0 from outside
+      EXPECT_LT((velocityAt(given, c.times[k]) - velocities[k]).norm(), 1e-12) << "keyframe " << k;
+    }
+  }
+}
+
+TEST(HermiteSpline, PeriodicWrapIsSmoothAndRepeats) {
+  const SplineCase c;
+  const double period = 4.1;  // the wrap segment 3.0 → 3.7 is 0.7 s long
+  const HermiteSpline spline(c.times, c.positions, {}, SplineEndMode::Periodic, period);
+  ASSERT_EQ(spline.knotTimes().back(), c.times.front() + period);
+  std::vector<double> probes = probeTimes(spline.knotTimes());
+  for (double t : {-9.1, -4.5, 5.3, 12.0}) probes.push_back(t);
+  expectVelocityIsTimeDerivative(spline, probes);
+  for (double t : probes) {
+    EXPECT_LT((positionAt(spline, t + period) - positionAt(spline, t)).norm(), 1e-12) << t;
+    EXPECT_LT((positionAt(spline, t - 3 * period) - positionAt(spline, t)).norm(), 1e-12) << t;
+    EXPECT_LT((velocityAt(spline, t + period) - velocityAt(spline, t)).norm(), 1e-9) << t;
+  }
+  EXPECT_LT((positionAt(spline, c.times.front() + period) - c.positions.front()).norm(), 1e-12);
+}
+
+TEST(HermiteSpline, AutomaticSlopesAreExactForQuadratics) {
+  // p(t) = 3t² − t: the parabola slopes reproduce ṗ at interior keyframes whatever the spacing,
+  // and a Hermite cubic with exact slopes reproduces the quadratic everywhere.
+  const std::vector<double> times{0.0, 0.2, 0.9, 1.0, 2.5};
+  std::vector<Eigen::VectorXd> positions;
+  for (double t : times) positions.push_back(Eigen::VectorXd::Constant(1, 3 * t * t - t));
+  const HermiteSpline spline(times, positions);
+  for (int k = 1; k + 1 < static_cast<int>(times.size()); ++k)
+    EXPECT_NEAR(spline.slope(k)[0], 6 * times[k] - 1, 1e-12) << "keyframe " << k;
+  for (double t : {0.4, 0.95})
+    EXPECT_NEAR(positionAt(spline, t)[0], 3 * t * t - t, 1e-12);
+  // Uniform spacing: the Catmull–Rom slope.
+  const HermiteSpline uniform({0, 1, 2}, {Eigen::VectorXd::Constant(1, 1.0), Eigen::VectorXd::Constant(1, 5.0),
+                                          Eigen::VectorXd::Constant(1, 2.0)});
+  EXPECT_NEAR(uniform.slope(1)[0], (2.0 - 1.0) / 2.0, 1e-15);
+}
+
+TEST(HermiteSpline, HoldEndsOutsideTheKeyframes) {
+  const SplineCase c;
+  const HermiteSpline spline(c.times, c.positions);
+  EXPECT_EQ(positionAt(spline, -10.0), c.positions.front());
+  EXPECT_EQ(positionAt(spline, 10.0), c.positions.back());
+  EXPECT_TRUE(velocityAt(spline, -10.0).isZero(0.0));
+  EXPECT_TRUE(velocityAt(spline, 10.0).isZero(0.0));
+  EXPECT_LT(velocityAt(spline, c.times.back() - 1e-9).norm(), 1e-6);  // continuous into the hold
+  const HermiteSpline single({1.0}, {c.positions[0]});
+  EXPECT_EQ(positionAt(single, 7.0), c.positions[0]);
+  EXPECT_TRUE(velocityAt(single, 0.5).isZero(0.0));
+}
+
+TEST(HermiteSpline, RejectsBadKeyframes) {
+  const Eigen::VectorXd a = Eigen::VectorXd::Zero(2), b = Eigen::VectorXd::Ones(2), c = Eigen::VectorXd::Ones(3);
+  EXPECT_THROW(HermiteSpline({}, {}), std::invalid_argument);
+  EXPECT_THROW(HermiteSpline({0.0, 0.0}, {a, b}), std::invalid_argument);
+  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a}), std::invalid_argument);
+  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a, c}), std::invalid_argument);
+  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a, b}, {a}), std::invalid_argument);
+  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a, b}, {}, SplineEndMode::Periodic, 1.0), std::invalid_argument);
+  EXPECT_THROW(HermiteSpline({0.0, NAN}, {a, b}), std::invalid_argument);
+  try {
+    HermiteSpline({0.0, 1.0, 0.5}, {a, b, a});
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("keyframe 2"), std::string::npos) << e.what();
+  }
+}
+
+TEST(KeyframePdTarget, EvaluatesTheSplineWithoutAllocating) {
+  const SplineCase c;
+  const KeyframePdTarget target(c.times, c.positions, {}, SplineEndMode::Periodic, 4.1);
+  const PdTargetSource& source = target;
+  PdTarget out{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3)};
+  double t = 0.0;
+  const AllocationCount count = allocationsOf([&] {
+    for (int i = 0; i < 100; ++i, t += 0.0731) source.evaluate(t, out);
+  });
+  EXPECT_EQ(count.total(), 0) << count.news << " operator new, " << count.mallocs << " malloc";
+  source.evaluate(c.times[2], out);
+  EXPECT_EQ(out.position, c.positions[2]);
+}
+
+// --- legs and IK ------------------------------------------------------------------------------
+
+struct QuadrupedCase {
+  std::string name;
+  std::string path;
+  BaseType base;
+  bool shared;
+};
+void PrintTo(const QuadrupedCase& c, std::ostream* os) { *os << c.name; }
+
+class QuadrupedTest : public ::testing::TestWithParam<QuadrupedCase> {
+ protected:
+  void SetUp() override {
+    if (GetParam().shared && !std::filesystem::exists(GetParam().path))
+      GTEST_SKIP() << "../shared is absent (" << GetParam().path << "): skipping";
+    UrdfOptions options;
+    options.base = GetParam().base;
+    model = loadUrdf(GetParam().path, options);
+    legs = identifyQuadrupedLegs(model);
+    pose = standingPose(model, legs, {});
+  }
+  Model model;
+  QuadrupedLegs legs;
+  StandingPose pose;
+};
+
+const std::vector<QuadrupedCase> kQuadrupeds{
+    {"quadruped_floating", quadrupedUrdf(), BaseType::Floating, false},
+    {"quadruped_fixed", quadrupedUrdf(), BaseType::Fixed, false},
+    {"a1", sharedPath("robots/a1/urdf/a1.urdf"), BaseType::Floating, true},
+    {"solo12", sharedPath("robots/solo12/urdf/solo12.urdf"), BaseType::Floating, true},
+};
+
+TEST_P(QuadrupedTest, LegsAreTheChainsFromTrunkToFeet) {
+  const char* prefixes[4][2] = {{"FL", "FL"}, {"FR", "FR"}, {"RL", "HL"}, {"RR", "HR"}};
+  for (int id = 0; id < 4; ++id) {
+    const Leg& leg = legs.legs[id];
+    const std::string& foot = leg.foot_link;
+    EXPECT_TRUE(foot.rfind(prefixes[id][0], 0) == 0 || foot.rfind(prefixes[id][1], 0) == 0)
+        << legIdName(static_cast<LegId>(id)) << " got " << foot;
+    ASSERT_EQ(leg.joints.size(), 3u) << foot;
+    for (int j : leg.joints) {
+      EXPECT_FALSE(model.bodies[j].is_base);
+      EXPECT_TRUE(model.isAncestor(j, leg.foot_body));
+      EXPECT_EQ(model.bodies[j].joint_name.substr(0, 2), foot.substr(0, 2));
+    }
+  }
+}
+
+TEST_P(QuadrupedTest, IkReachesRandomReachableTargets) {
+  const JointLimits limits = readJointLimits(model);
+  LegIkSolver ik(model, limits);
+  std::mt19937 rng(17);
+  std::uniform_real_distribution<double> angle(-0.3, 0.3);
+  int solved = 0;
+  for (int trial = 0; trial < 20; ++trial) {
+    // Any trunk pose: targets are relative to the trunk.
+    Eigen::VectorXd base_pose = pose.q;
+    for (int i = 0; i < model.nq; ++i)
+      if (model.bodies[i].is_base) base_pose[i] += angle(rng);
+    for (int id = 0; id < 4; ++id) {
+      const Leg& leg = legs.legs[id];
+      Eigen::VectorXd reference = base_pose;
+      for (int j : leg.joints) reference[j] = std::clamp(reference[j] + angle(rng), limits.lower[j], limits.upper[j]);
+      const Vec3 target = ik.footInTrunk(leg, reference);
+      Eigen::VectorXd q = base_pose;
+      const LegIkResult result = ik.solve(leg, target, q);
+      EXPECT_TRUE(result.converged) << legIdName(static_cast<LegId>(id)) << " trial " << trial << ": " << result.error;
+      EXPECT_LT((ik.footInTrunk(leg, q) - target).norm(), 1e-9);
+      for (int i = 0; i < model.nq; ++i)
+        if (std::find(leg.joints.begin(), leg.joints.end(), i) == leg.joints.end()) {
+        EXPECT_EQ(q[i], base_pose[i]);
+      }
+      for (int j : leg.joints) {
+        EXPECT_GE(q[j], limits.lower[j]);
+        EXPECT_LE(q[j], limits.upper[j]);
+      }
+      solved += result.converged;
+    }
+  }
+  EXPECT_EQ(solved, 80);
+}
+
+TEST_P(QuadrupedTest, StandingPosePutsFeetUnderTheHipsAtTheHeight) {
+  LegIkSolver ik(model, readJointLimits(model));
+  const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nq);
+  EXPECT_NEAR(pose.height, 0.8 * pose.straight_height, 1e-12);
+  EXPECT_GT(pose.leg_length, 0.1);
+  for (int id = 0; id < 4; ++id) {
+    const Leg& leg = legs.legs[id];
+    const Vec3 straight = ik.footInTrunk(leg, zero), foot = ik.footInTrunk(leg, pose.q);
+    EXPECT_NEAR(foot.x(), straight.x(), 1e-9);
+    EXPECT_NEAR(foot.y(), straight.y(), 1e-9);
+    EXPECT_NEAR(foot.z() - leg.foot_radius, -pose.height, 1e-9);
+    EXPECT_GT(ik.conditioning(leg, pose.q), 1e-2) << "knee left straight";
+  }
+  const KeyframePdTarget stand = makeStandTarget(model);
+  PdTarget out{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
+  stand.evaluate(3.7, out);
+  EXPECT_LT((out.position - pose.q).norm(), 1e-12);
+  EXPECT_TRUE(out.velocity.isZero(0.0));
+  // A given height and a given nominal pose.
+  StandParameters lower;
+  lower.height = 0.7 * pose.straight_height;
+  const StandingPose low = standingPose(model, legs, lower);
+  for (int id = 0; id < 4; ++id)
+    EXPECT_NEAR(ik.footInTrunk(legs.legs[id], low.q).z() - legs.legs[id].foot_radius, -*lower.height, 1e-9);
+  StandParameters nominal;
+  nominal.nominal_q = pose.q;
+  const StandingPose same = standingPose(model, legs, nominal);
+  EXPECT_NEAR(same.height, pose.height, 1e-9);
+  EXPECT_LT((same.q - pose.q).norm(), 1e-7);
+}
+
+// Foot displacements from standing, by FK of the target joints with the trunk fixed.
+std::array<Vec3, 4> footDisplacements(const Model& model, const QuadrupedLegs& legs, const StandingPose& pose,
+                                      LegIkSolver& ik, const PdTargetSource& source, double t) {
+  PdTarget out{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
+  source.evaluate(t, out);
+  std::array<Vec3, 4> d;
+  for (int id = 0; id < 4; ++id) d[id] = ik.footInTrunk(legs.legs[id], out.position) - pose.feet[id];
+  return d;
+}
+
+TEST_P(QuadrupedTest, TrotFeetTraceTheDesignedPath) {
+  const TrotParameters trot = withRobotDefaults(TrotParameters{}, pose);
+  EXPECT_NEAR(*trot.stride_length, 0.25 * pose.leg_length, 1e-15);
+  EXPECT_NEAR(*trot.step_height, 0.15 * pose.leg_length, 1e-15);
+  const KeyframePdTarget target = makeTrotTarget(model);
+  const std::vector<double>& knots = target.spline().knotTimes();
+  ASSERT_EQ(knots.size(), 17u);  // 16 keyframes + the closing knot
+  LegIkSolver ik(model, readJointLimits(model));
+
+  std::array<double, 4> x_min, x_max, z_max;
+  x_min.fill(1e9), x_max.fill(-1e9), z_max.fill(-1e9);
+  for (size_t k = 0; k + 1 < knots.size(); ++k) {
+    const double t = knots[k];
+    EXPECT_NEAR(t, trot.period * k / 16, 1e-15);
+    const auto d = footDisplacements(model, legs, pose, ik, target, t);
+    for (int id = 0; id < 4; ++id) {
+      const Vec3 designed = trotFootDisplacement(trot, trotLegPhase(trot, static_cast<LegId>(id), t));
+      EXPECT_LT((d[id] - designed).norm(), 1e-9) << legIdName(static_cast<LegId>(id)) << " t = " << t;
+      x_min[id] = std::min(x_min[id], d[id].x());
+      x_max[id] = std::max(x_max[id], d[id].x());
+      z_max[id] = std::max(z_max[id], d[id].z());
+      EXPECT_GE(d[id].z(), -1e-9);
+    }
+    // Diagonal pairs in phase, the two pairs half a period apart.
+    EXPECT_LT((d[kFrontLeft] - d[kHindRight]).norm(), 1e-9);
+    EXPECT_LT((d[kFrontRight] - d[kHindLeft]).norm(), 1e-9);
+    const auto later = footDisplacements(model, legs, pose, ik, target, t + trot.period / 2);
+    EXPECT_LT((later[kFrontRight] - d[kFrontLeft]).norm(), 1e-9);
+  }
+  for (int id = 0; id < 4; ++id) {
+    EXPECT_NEAR(x_max[id] - x_min[id], *trot.stride_length, 1e-6) << legIdName(static_cast<LegId>(id));
+    EXPECT_NEAR(z_max[id], *trot.step_height, 1e-6) << legIdName(static_cast<LegId>(id));
+  }
+  // Mid-swing of the front-left leg is a quarter period in.
+  EXPECT_NEAR(footDisplacements(model, legs, pose, ik, target, trot.period / 4)[kFrontLeft].z(), *trot.step_height,
+              1e-6);
+  // The targets are periodic and their velocity is their time derivative.
+  PdTarget a{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)}, b = a;
+  for (double t : {0.01, 0.13, 0.3125, 0.49}) {
+    target.evaluate(t, a);
+    target.evaluate(t + 3 * trot.period, b);
+    EXPECT_LT((a.position - b.position).norm(), 1e-12);
+  }
+  expectVelocityIsTimeDerivative(target.spline(), probeTimes(knots));
+}
+
+TEST_P(QuadrupedTest, TrotWithOtherDutyFactorAndSizes) {
+  TrotParameters trot;
+  trot.duty_factor = 0.6;
+  trot.stride_length = 0.1 * pose.leg_length;
+  trot.step_height = 0.1 * pose.leg_length;
+  trot.period = 0.8;
+  const KeyframePdTarget target = makeTrotTarget(model, trot);
+  LegIkSolver ik(model, readJointLimits(model));
+  for (double t : target.spline().knotTimes()) {
+    const auto d = footDisplacements(model, legs, pose, ik, target, t);
+    for (int id = 0; id < 4; ++id)
+      EXPECT_LT((d[id] - trotFootDisplacement(trot, trotLegPhase(trot, static_cast<LegId>(id), t))).norm(), 1e-9);
+  }
+  // Mid-swing (phase 0.2 of FL's cycle) and lift-off/touch-down are keyframes.
+  EXPECT_NEAR(footDisplacements(model, legs, pose, ik, target, 0.2 * trot.period)[kFrontLeft].z(), *trot.step_height,
+              1e-9);
+}
+
+TEST_P(QuadrupedTest, JumpCrouchesToTheDepth) {
+  const JumpParameters jump = withRobotDefaults(JumpParameters{}, pose);
+  const KeyframePdTarget target = makeJumpTarget(model);
+  LegIkSolver ik(model, readJointLimits(model));
+  const double moving = jump.period - jump.pause;
+  const double crouch_end = jump.crouch_share * moving, extension_end = crouch_end + jump.extension_share * moving;
+  // Feet rise towards the trunk by the crouch depth (the trunk lowers), and stay under the hips.
+  const auto crouched = footDisplacements(model, legs, pose, ik, target, crouch_end);
+  const auto extended = footDisplacements(model, legs, pose, ik, target, extension_end);
+  for (int id = 0; id < 4; ++id) {
+    EXPECT_LT((crouched[id] - Vec3(0, 0, *jump.crouch_depth)).norm(), 1e-9) << legIdName(static_cast<LegId>(id));
+    EXPECT_NEAR(extended[id].x(), 0, 1e-6);
+    EXPECT_LT(extended[id].z(), 0) << "push-off extends the legs";
+  }
+  // Standing at the start and through the pause, with zero velocity.
+  PdTarget out{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
+  for (double t : {0.0, moving, moving + jump.pause / 2, jump.period, 5 * jump.period}) {
+    target.evaluate(t, out);
+    EXPECT_LT((out.position - pose.q).norm(), 1e-12) << t;
+    EXPECT_LT(out.velocity.norm(), 1e-12) << t;
+  }
+  expectVelocityIsTimeDerivative(target.spline(), probeTimes(target.spline().knotTimes()));
+}
+
+TEST_P(QuadrupedTest, GaitTargetsEvaluateWithoutAllocating) {
+  for (GaitType type : {GaitType::Stand, GaitType::Trot, GaitType::Jump}) {
+    GaitParameters gait;
+    gait.type = type;
+    const std::unique_ptr<PdTargetSource> source = makeGaitTarget(model, gait);
+    PdTarget out{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
+    double t = -0.2;
+    const AllocationCount count = allocationsOf([&] {
+      for (int i = 0; i < 50; ++i, t += 0.0173) source->evaluate(t, out);
+    });
+    EXPECT_EQ(count.total(), 0) << gaitTypeName(type) << ": " << count.news << " operator new, " << count.mallocs
+                                << " malloc";
+  }
+}
+
+TEST_P(QuadrupedTest, UnreachableSizesAreRejected) {
+  TrotParameters trot;
+  trot.step_height = 2 * pose.straight_height;
+  try {
+    makeTrotTarget(model, trot);
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("cannot reach"), std::string::npos) << e.what();
+  }
+  JumpParameters jump;
+  jump.crouch_depth = 2 * pose.height;
+  EXPECT_THROW(makeJumpTarget(model, jump), std::invalid_argument);
+  trot = {};
+  trot.duty_factor = 1.0;
+  EXPECT_THROW(makeTrotTarget(model, trot), std::invalid_argument);
+}
+
+INSTANTIATE_TEST_SUITE_P(Robots, QuadrupedTest, ::testing::ValuesIn(kQuadrupeds),
+                         [](const auto& info) { return info.param.name; });
+
+TEST(Gait, ParsesTypeNames) {
+  EXPECT_EQ(parseGaitType("trot"), GaitType::Trot);
+  EXPECT_EQ(parseGaitType("jump"), GaitType::Jump);
+  EXPECT_EQ(parseGaitType("stand"), GaitType::Stand);
+  EXPECT_THROW(parseGaitType("gallop"), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace nmdp::test
