@@ -54,13 +54,16 @@ struct Recursion {
     targets.evaluate(state.time + h, ws.target);
     StepSolver& solver = ws.solver;
     const Eigen::VectorXd& w_start = options.warm_start_weights ? state.w : ws.zero_weights;
-    const StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, state.beta);
+    // β carries over from accepted steps only: a failed attempt leaves it where it started.
+    double beta = state.beta;
+    const StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, beta);
     stats.outer_iterations += a.outer_iterations;
     stats.g_evaluations += a.g_evaluations;
     stats.projections += a.projections;
     stats.newton_iterations += a.newton_iterations;
     stats.rejected += a.rejected;
     if (a.status == StepStatus::Converged) {
+      state.beta = beta;
       accept(h);
       return true;
     }

@@ -10,7 +10,16 @@ namespace nmdp {
 
 namespace {
 bool allFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
+bool isSmall(const Eigen::VectorXd& dw, double tol) { return dw.size() == 0 || dw.lpNorm<Eigen::Infinity>() < tol; }
 }  // namespace
+
+bool StepSolver::solveQp(double beta) {
+  const QpResult qp = qp_.solve(Q_, beta * q_scale_, g_, w_, dw_, warm_valid_ ? &warm_ : nullptr);
+  if (qp.status != QpStatus::Converged) return false;
+  warm_ = qp_.activeSet();
+  warm_valid_ = true;
+  return true;
+}
 
 StepSolver::StepSolver(const System& system, const IntegratorOptions& options)
     : residual_(system), lu_(system.model->nq, system.model->nq), llt_(system.model->nq) {
@@ -26,6 +35,10 @@ StepSolver::StepSolver(const System& system, const IntegratorOptions& options)
   theta_.setZero(n);
   theta_trial_.setZero(n);
   theta_candidate_.setZero(n);
+  G_previous_.setZero(n);
+  secant_residual_.setZero(n);
+  jacobian_.setZero(n, n);
+  secant_correction_.setZero(n, n);
   velocity_.setZero(n);
   step_.setZero(n);
   tau_.setZero(n);
@@ -69,6 +82,7 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
   const double lever = 1.0 + theta.lpNorm<Eigen::Infinity>();
   const double tolerance = options.projection_tolerance * weight_scale_ +
                            1e3 * std::numeric_limits<double>::epsilon() * mass_scale_ * lever * lever / (h * h);
+  const bool secant = !first_order && options.zeroth_order_secant;
   residual_.evaluate(system, theta, w, first_order);
   ++stats.g_evaluations;
   if (!allFinite(residual_.G)) return false;
@@ -76,19 +90,42 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
   for (int it = 0;; ++it) {
     if (norm <= tolerance) return true;
     if (it == options.projection_max_iterations) return false;
-    lu_.compute(residual_.dG_dtheta);
+    if (secant) {
+      jacobian_ = residual_.dG_dtheta + secant_correction_;
+      lu_.compute(jacobian_);
+    } else {
+      lu_.compute(residual_.dG_dtheta);
+    }
     if (lu_.rank() < n) return false;
     step_ = -residual_.G;
     solveInPlace(step_);
     ++stats.newton_iterations;
-    theta_trial_ = theta + step_;
-    residual_.evaluate(system, theta_trial_, w, first_order);
-    ++stats.g_evaluations;
-    const double trial_norm = residual_.G.lpNorm<Eigen::Infinity>();
-    if (!(trial_norm < norm)) return false;  // divergence (also catches NaN)
+    if (secant) G_previous_ = residual_.G;
+    double trial_norm = 0.0;
+    for (int k = 0;; ++k) {
+      theta_trial_ = theta + step_;
+      residual_.evaluate(system, theta_trial_, w, first_order);
+      ++stats.g_evaluations;
+      trial_norm = residual_.G.lpNorm<Eigen::Infinity>();
+      if (trial_norm < norm) break;
+      if (k == options.projection_backtracking) return false;  // divergence (also catches NaN)
+      step_ *= 0.5;
+    }
+    if (secant) updateSecant();
     theta.swap(theta_trial_);
     norm = trial_norm;
   }
+}
+
+void StepSolver::updateSecant() {
+  // Structured Broyden: S, the stiffness ∂Ḡ/∂θ lacks, is updated so that
+  // (∂Ḡ/∂θ(θ_new) + S) Δθ = ΔG along the Newton step just taken (w fixed; values of G only).
+  const double ss = step_.squaredNorm();
+  if (!(ss > 0)) return;
+  secant_residual_ = residual_.G - G_previous_;
+  secant_residual_.noalias() -= residual_.dG_dtheta * step_;
+  secant_residual_.noalias() -= secant_correction_ * step_;
+  secant_correction_.noalias() += (secant_residual_ / ss) * step_.transpose();
 }
 
 StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& options, const SimulationState& state,
@@ -113,7 +150,12 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
     }
     ++stats.outer_iterations;
     if (need_direction) {
-      lu_.compute(residual_.dG_dtheta);
+      if (!first_order && options.zeroth_order_secant) {
+        jacobian_ = residual_.dG_dtheta + secant_correction_;
+        lu_.compute(jacobian_);
+      } else {
+        lu_.compute(residual_.dG_dtheta);
+      }
       if (lu_.rank() < theta_.size()) {
         stats.status = StepStatus::ProjectionFailed;
         return stats;
@@ -123,16 +165,18 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       g_.noalias() = D_.transpose() * residual_.grad_K;
       HD_.noalias() = residual_.hess_K * D_;
       Q_.noalias() = D_.transpose() * HD_;
+      // β is relative to the scale of Q, which follows V² and 1/h² over many orders of magnitude
+      // (a foot in the air carries k ζ = 0.1 N, a landing one thousands): an absolute β carried
+      // from step to step would be meaningless.
+      const double mean_diagonal = Q_.size() ? Q_.diagonal().mean() : 0.0;
+      q_scale_ = mean_diagonal > 0 ? mean_diagonal : 1.0;
       need_direction = false;
     }
-    const QpResult qp = qp_.solve(Q_, beta, g_, w_, dw_, warm_valid_ ? &warm_ : nullptr);
-    if (qp.status != QpStatus::Converged) {
+    if (!solveQp(beta)) {
       stats.status = StepStatus::QpFailed;
       return stats;
     }
-    warm_ = qp_.activeSet();
-    warm_valid_ = true;
-    if (!(dw_.size() == 0 || dw_.lpNorm<Eigen::Infinity>() < options.tol_w)) {
+    if (!isSmall(dw_, options.tol_w)) {
       w_trial_ = w_ + dw_;
       Eigen::VectorXd& candidate = theta_candidate_;
       candidate = theta_;
@@ -206,17 +250,17 @@ StepAttempt StepSolver::neMdp(const System& system, const SimulationState& state
     D_ = residual_.B;
     llt_.solveInPlace(D_);
     Q_.noalias() = (h * h) * residual_.B.transpose() * D_;
+    // The QP model is taken around the warm start w (gradient g₀ + Q w).
     g_.noalias() = h * residual_.B.transpose() * velocity_;
-    // Bᵀ H⁻¹ B is singular when there are more vertices than degrees of freedom: a regularization far
-    // below the scale of Q picks the minimum-norm-like optimum without changing the velocity.
-    const double beta = 1e-12 * std::max(1.0, Q_.diagonal().maxCoeff());
-    const QpResult qp = qp_.solve(Q_, beta, g_, w_, dw_, warm_valid_ ? &warm_ : nullptr);
-    if (qp.status != QpStatus::Converged) {
+    g_.noalias() += Q_ * w_;
+    // Bᵀ H⁻¹ B is singular when there are more vertices than degrees of freedom: a penalty far below
+    // the scale of Q makes the optimum unique without changing the velocity noticeably.
+    const double mean_diagonal = Q_.diagonal().mean();
+    q_scale_ = mean_diagonal > 0 ? mean_diagonal : 1.0;
+    if (!solveQp(1e-12)) {
       stats.status = StepStatus::QpFailed;
       return stats;
     }
-    warm_ = qp_.activeSet();
-    warm_valid_ = true;
     w_ += dw_;
     velocity_.noalias() += h * (D_ * w_);
   }

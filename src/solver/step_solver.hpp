@@ -11,7 +11,9 @@
 //
 // Proj(θ, w): Newton on G(·, w) = 0 with a full-pivoting LU (rank-revealing). A Newton step is
 // accepted only if ‖G‖∞ decreases; a full step that does not, a rank-deficient Jacobian, or the
-// iteration cap is divergence. Converged when ‖G‖∞ ≤ projection_tolerance · m‖g‖ plus a
+// iteration cap is divergence. A step may be halved up to projection_backtracking times before that
+// verdict (the paper notes the projection can diverge without a line search; the stiff contact
+// makes the full step overshoot on landing, and ∂Ḡ/∂θ of zeroth order lacks that stiffness). Converged when ‖G‖∞ ≤ projection_tolerance · m‖g‖ plus a
 // round-off allowance that grows as 1/h² (the inertial term is (θ − q_n)/h² and θ carries round-off).
 //
 // ne-mdp (DESIGN.md 6): explicit PD and dynamics at (q_n, q̇_n), vertices at q_n, one QP for the
@@ -56,6 +58,8 @@ class StepSolver {
   // Newton on G(·, w) = 0 from θ (in place). On success the residual holds the evaluation at θ.
   bool project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
                const Eigen::VectorXd& w, bool first_order, StepAttempt& stats);
+  void updateSecant();
+  bool solveQp(double beta);  // Δw into dw_ with penalty β·q_scale_; false if the QP failed
   // x = (∂G/∂θ)⁻¹ b in place, with the current factorization.
   template <typename Derived>
   void solveInPlace(Eigen::MatrixBase<Derived>& x);
@@ -68,6 +72,11 @@ class StepSolver {
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
   Eigen::MatrixXd D_, Q_, HD_;
+  Eigen::VectorXd G_previous_, secant_residual_;
+  // Zeroth order: S, a secant estimate of the contact stiffness ∂Ḡ/∂θ lacks (kept across steps), and
+  // ∂Ḡ/∂θ + S.
+  Eigen::MatrixXd secant_correction_, jacobian_;
+  double q_scale_ = 1.0;       // mean diagonal of Q: the unit of β
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
   double mass_scale_ = 1.0;
   int K_vertices_ = 0;
