@@ -96,9 +96,17 @@ void CoulombModel::evaluate(const std::vector<ContactFrame>& frames, const Terra
     for (int j = 0; j < 3; ++j) {
       const double ds = d > 0.0 ? -ds_dd * q.gradient[j] : 0.0;
       const Vec3 dn = q.normal_jacobian.col(j);
+      Mat6X& dV = o.dV[3 + j];
+      if (dn.isZero(0.0)) {  // the normal does not turn (flat terrain): dt = darm = du = 0, the same values
+        for (int i = 0; i < K; ++i) {
+          const Vec3 dF = ds * (n + mu * (cos_[i] * t1 + sin_[i] * t2));
+          dV.col(i).head<3>() = arm.cross(dF);
+          dV.col(i).tail<3>() = dF;
+        }
+        continue;
+      }
       const Vec3 dt1 = dt1_dn * dn, dt2 = dt2_dn * dn;
       const Vec3 darm = -r * dn;
-      Mat6X& dV = o.dV[3 + j];
       for (int i = 0; i < K; ++i) {
         const Vec3 u = n + mu * (cos_[i] * t1 + sin_[i] * t2);
         const Vec3 du = dn + mu * (cos_[i] * dt1 + sin_[i] * dt2);

@@ -14,7 +14,8 @@
 //                  about the sphere centre the torque is τ_y y_s + (Q − c) × F;
 //  * cut-off       the wrenches are scaled by a C² quintic step σ(φ) that is 1 below
 //                  cutoff − cutoff_width and 0 above cutoff, so the model is exactly zero in the air
-//                  and continuous everywhere.
+//                  and continuous everywhere. Contacts at or above the cut-off get V = dV = 0
+//                  without evaluating the feature function (when it has evaluateRows()).
 // The derivative dV/dξ is analytic in the geometry and uses the feature function's dW/df.
 #pragma once
 #include <memory>
@@ -22,6 +23,9 @@
 #include "contact_models/contact_model.hpp"
 
 namespace nmdp {
+
+// Row-major planar results (see FeatureWrenchFunction::evaluateRows).
+using PlanarRows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 
 // Planar wrenches of K vertices for a batch of B feature points. Row b of W holds vertex j's
 // (F_x, F_z, τ_y) in columns 3j, 3j+1, 3j+2.
@@ -34,6 +38,16 @@ class FeatureWrenchFunction {
   // features: B×2 rows (φ, β). W: B×3K. dW_dphi, dW_dbeta: B×3K, only when non-null.
   virtual void evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                         Eigen::MatrixXd* dW_dbeta) const = 0;
+  // Optional fast path for PlanarWrenchModel, which needs each point's results contiguous: evaluates
+  // the first `count` rows of `features` (B×2, count ≤ B) into `rows`, whose row r = 3b + v
+  // (derivatives) or r = b (values only), v = 0 for W, 1 for dW/dφ, 2 for dW/dβ, begins with the
+  // 3K entries of row b of evaluate()'s output, i.e. a 3×K column-major matrix. `rows` may be
+  // larger than needed and is sized for all B points, so a varying count never reallocates.
+  // Returns false when not implemented (the caller then uses evaluate()).
+  virtual bool evaluateRows(const Eigen::MatrixX2d& /*features*/, Eigen::Index /*count*/, bool /*derivatives*/,
+                            PlanarRows& /*rows*/) const {
+    return false;
+  }
 };
 
 struct PlanarGeometry {
@@ -75,11 +89,14 @@ class PlanarWrenchModel : public ContactModel {
   std::shared_ptr<const FeatureWrenchFunction> function_;
   PlanarGeometry geometry_;
   std::string type_;
-  // Scratch for one evaluation (a model instance serves one simulation at a time).
+  // Scratch for one evaluation (a model instance serves one simulation at a time), sized by the
+  // number of contacts only.
   mutable std::vector<PlanarFrame> frames_;
+  mutable std::vector<double> sigma_, dsigma_;  // cut-off step and its derivative per contact
+  mutable std::vector<Eigen::Index> row_;       // the contact's point in the feature batch, −1 if above the cut-off
   mutable Eigen::MatrixX2d features_;
-  mutable Eigen::MatrixXd W_, dW_dphi_, dW_dbeta_;
-  mutable Eigen::Matrix<double, 3, Eigen::Dynamic> planar_, planar_d_, force_, force_d_, raw_, raw_phi_, raw_beta_;
+  mutable Eigen::MatrixXd W_, dW_dphi_, dW_dbeta_;  // for functions without evaluateRows()
+  mutable PlanarRows rows_;
 };
 
 }  // namespace nmdp

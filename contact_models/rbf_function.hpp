@@ -19,11 +19,13 @@
 // returned there (elsewhere it is the unit vector S²(f − c)/ρ). Prefer a C¹ kernel for the solver.
 //
 // Evaluation is batched: the kernel values are computed elementwise (vectorized) for all B points
-// and N centres, then [Φ; ∂Φ/∂φ; ∂Φ/∂β] (3B×N, plus the polynomial columns) times the coefficient
-// matrix (N×3K) is one matrix product. The scratch is sized on first use for a batch size and
-// reused: no allocation once warmed up, with or without derivatives. An instance is therefore not
-// safe to evaluate from two threads at once (like the models). Values agree with a different batch
-// size, or with/without derivatives, to rounding only (the summation order of the product differs).
+// and N centres into the basis [Φᵀ ∂Φᵀ/∂φ ∂Φᵀ/∂β] (N [+3] × 3B, the polynomial rows last), which
+// multiplies the coefficients (N [+3] × 3K, stored row-major and padded to whole SIMD packets) in a
+// register-blocked kernel (rbf_function.cpp). Every output entry is one fixed-order sum over the
+// centres, so values are bit-identical whatever the batch size and with or without derivatives.
+// The scratch is sized on first use for a batch size and reused: no allocation once warmed up,
+// with or without derivatives. An instance is therefore not safe to evaluate from two threads at
+// once (like the models).
 //
 // ----- File formats ------------------------------------------------------------------------------
 // (a) The published text format (granular/robosimian_sand_rbf): a folder with
@@ -97,17 +99,23 @@ class RbfFunction : public FeatureWrenchFunction {
   std::string describe() const override;
   void evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                 Eigen::MatrixXd* dW_dbeta) const override;
+  bool evaluateRows(const Eigen::MatrixX2d& features, Eigen::Index count, bool derivatives,
+                    PlanarRows& rows) const override;
 
   const RbfParameters& parameters() const { return params_; }
 
  private:
+  // Fills basis_ for the first `count` rows of `features`, sized for all of them (see evaluateRows).
+  void computeBasis(const Eigen::MatrixX2d& features, Eigen::Index count, bool derivatives) const;
+
   RbfParameters params_;
   Eigen::MatrixX2d scaled_centres_;  // N×2: S c_i
-  Eigen::MatrixXd coefficients_;     // (N [+3])×3K: weights stacked over the polynomial
-  // Scratch (N×B): scaled differences, ρ², κ, g; basis columns [Φᵀ | ∂Φᵀ/∂φ | ∂Φᵀ/∂β] and their
-  // product with the coefficients.
-  mutable Eigen::ArrayXXd dphi_, dbeta_, r2_, kappa_, g_;
-  mutable Eigen::MatrixXd basis_, product_;
+  PlanarRows coefficients_;          // (N [+3])×C padded, row-major: weights stacked over the polynomial
+  // Scratch: scaled differences, ρ², g for one point (N); the basis, (N [+3])×R padded, column r =
+  // output row r of evaluateRows; the product for evaluate().
+  mutable Eigen::ArrayXd dphi_, dbeta_, r2_, g_;
+  mutable Eigen::MatrixXd basis_;
+  mutable PlanarRows product_;
 };
 
 // Reads the published text format. Throws InputError naming the file (and line) on a missing file,

@@ -1,6 +1,8 @@
 #!/usr/bin/env bash
-# Builds the benchmarks (Release), runs every build/bench/bench_* single-threaded with 5 repetitions
-# and writes the medians to docs/BENCHMARKS.md: the machine (CPU, compiler, -march flags, the BLAS
+# Builds the benchmarks (Release), runs every build/bench/bench_* single-threaded with repeated,
+# randomly interleaved runs (--benchmark_enable_random_interleaving, so a burst of load on a shared
+# machine spreads over all benchmarks instead of skewing one) and writes the median and the
+# min–max range over the repetitions to docs/BENCHMARKS.md: the machine (CPU, compiler, -march flags, the BLAS
 # libtorch runs on, load average before, during and after the run), the multibody core with the
 # verdict on the 20 µs one-core target for the NE residual with its θ-Jacobian, and the contact
 # models (bench/bench_contact_models.cpp: V and V+dV/dξ for 4 contacts) with their targets.
@@ -9,14 +11,20 @@
 #   scripts/bench.sh --benchmark_filter=quadruped   # extra arguments go to every benchmark binary
 #
 # Environment: NMDP_BUILD_DIR (default build), NMDP_BENCH_CPU (pin to this CPU with taskset),
-# NMDP_BENCH_REPETITIONS (default 5).
+# NMDP_BENCH_REPETITIONS (default 5), NMDP_BENCH_CONTACT_REPETITIONS (bench_contact_models, whose
+# runs are short and noisy; default 10), NMDP_BENCH_OUTPUT (default docs/BENCHMARKS.md; a relative
+# path is taken from the directory the script is started in).
 # A benchmark that was not run (filtered out, or the published RBF model without ../shared) gets a
-# row that says so; a binary that fails stops the script (set -e) before docs/BENCHMARKS.md is written.
+# row that says so; a binary that fails stops the script (set -e) before the output is written.
 set -euo pipefail
+output=""
+[ -n "${NMDP_BENCH_OUTPUT:-}" ] && output=$(realpath -m -- "$NMDP_BENCH_OUTPUT")
 cd "$(dirname "$0")/.."
 root=$(pwd)
+output=${output:-$root/docs/BENCHMARKS.md}
 build_dir=${NMDP_BUILD_DIR:-build}
 repetitions=${NMDP_BENCH_REPETITIONS:-5}
+contact_repetitions=${NMDP_BENCH_CONTACT_REPETITIONS:-10}
 
 # The source state that is built (taken now: the tree may change while the benchmarks run).
 source_commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
@@ -50,9 +58,13 @@ trap 'kill "$sampler" 2>/dev/null || true' EXIT
 json_files=()
 for target in "${targets[@]}"; do
   out="$results_dir/$target.json"
-  echo "running $target ($repetitions repetitions) ..." >&2
+  reps=$repetitions
+  [ "$target" = bench_contact_models ] && reps=$contact_repetitions
+  echo "running $target ($reps repetitions, interleaved) ..." >&2
+  # The file keeps every repetition (for the range); aggregates only on the console.
   "${pin[@]}" "$build_dir/bench/$target" \
-    --benchmark_repetitions="$repetitions" --benchmark_report_aggregates_only=true \
+    --benchmark_repetitions="$reps" --benchmark_enable_random_interleaving=true \
+    --benchmark_display_aggregates_only=true \
     --benchmark_format=json --benchmark_out="$out" --benchmark_out_format=json "$@" >/dev/null
   json_files+=("$out")
 done
@@ -102,18 +114,19 @@ fi
 rbf_present=""
 [ -e "$root/../shared/granular/robosimian_sand_rbf" ] && rbf_present=1
 
-mkdir -p docs
+mkdir -p "$(dirname "$output")"
 NMDP_NPROC=$(nproc) NMDP_CPU="$cpu_model" NMDP_DATE="$(date -u '+%Y-%m-%d %H:%M UTC')" \
 NMDP_COMPILER="$compiler_version" NMDP_FLAGS="$flags" NMDP_EIGEN="${eigen_version:-unknown}" \
 NMDP_LOAD_BEFORE="$load_before" NMDP_LOAD_AFTER="$load_after" NMDP_REPS="$repetitions" \
+NMDP_CONTACT_REPS="$contact_repetitions" \
 NMDP_LOAD_DURING="$load_during" NMDP_LOAD_MAX="$load_max" \
 NMDP_TARGET_FLAGS="$target_flags" NMDP_NATIVE_ARCH="$native_arch" \
 NMDP_BLAS_PATH="$blas_path" NMDP_BLAS_PACKAGE="$blas_package" \
 NMDP_OPENBLAS_THREADS="${OPENBLAS_NUM_THREADS:-unset}" NMDP_RBF_PRESENT="$rbf_present" \
 NMDP_SOURCES="${targets[*]}" \
 NMDP_PIN="${pin[*]:-}" NMDP_COMMIT="$source_commit" NMDP_DIRTY="$source_dirty" \
-python3 - "${json_files[@]}" >"docs/BENCHMARKS.md" <<'PY'
-import json, os, sys
+python3 - "${json_files[@]}" >"$output.partial" <<'PY'
+import json, os, statistics, sys
 from collections import OrderedDict
 
 TARGET_NS = 20000.0
@@ -152,15 +165,25 @@ context = None
 
 def record(entry, b):
     scale = {"ns": 1.0, "us": 1e3, "ms": 1e6, "s": 1e9}[b.get("time_unit", "ns")]
-    agg = b["aggregate_name"]
+    if b.get("run_type") == "iteration":  # one repetition: kept for the range
+        entry.setdefault("reps_real", []).append(b["real_time"] * scale)
+        entry.setdefault("reps_cpu", []).append(b["cpu_time"] * scale)
+        return
+    agg = b.get("aggregate_name")
     if agg == "cv":
         entry["cv"] = b["real_time"]  # cv aggregates are ratios, reported in real_time
-    elif agg == "median" or (agg == "single" and "real" not in entry):
+    elif agg == "median":
         entry["real"] = b["real_time"] * scale
         entry["cpu"] = b["cpu_time"] * scale
-    elif agg == "min":
-        entry["real_min"] = b["real_time"] * scale
-        entry["cpu_min"] = b["cpu_time"] * scale
+
+def finish(entry):
+    # Range over the repetitions; the median from them too when Google Benchmark gave no aggregates.
+    for key in ("real", "cpu"):
+        reps = entry.get("reps_" + key)
+        if not reps:
+            continue
+        entry[key + "_min"], entry[key + "_max"] = min(reps), max(reps)
+        entry.setdefault(key, statistics.median(reps))
 
 for path in sys.argv[1:]:
     is_contact = os.path.basename(path).startswith(CONTACT_FILE)
@@ -172,9 +195,7 @@ for path in sys.argv[1:]:
         continue  # no output: the filter matched nothing in this binary
     context = context or doc.get("context", {})
     for b in doc.get("benchmarks", []):
-        if b.get("run_type") == "iteration" and "aggregate_name" not in b:
-            b = dict(b, aggregate_name="single")  # one repetition: Google Benchmark reports no aggregates
-        elif b.get("run_type") != "aggregate":
+        if b.get("run_type") not in ("iteration", "aggregate"):
             continue
         parts = b.get("run_name", b["name"]).split("/")
         if is_contact:
@@ -187,6 +208,13 @@ for path in sys.argv[1:]:
         robots.setdefault(robot, nq)
         entry = rows.setdefault(kernel, OrderedDict()).setdefault(robot, {})
         record(entry, b)
+
+for per_robot in rows.values():
+    for e in per_robot.values():
+        finish(e)
+for per in contact.values():
+    for e in per.values():
+        finish(e)
 
 def fmt(ns):
     return f"{ns:,.0f}" if ns is not None else "—"
@@ -224,9 +252,10 @@ out.append("## Method")
 out.append("")
 out.append(f"Every benchmark runs on one thread{' pinned with `' + env['NMDP_PIN'] + '`' if env.get('NMDP_PIN') else ''}, "
            f"at one fixed random state per robot, with all outputs preallocated; "
-           f"{env['NMDP_REPS']} repetitions, the table gives the **median wall-clock time per call in ns** "
-           "(`--benchmark_repetitions`, `--benchmark_report_aggregates_only`), with the coefficient of "
-           "variation across repetitions in parentheses when it exceeds 5 %. "
+           f"{env['NMDP_REPS']} repetitions run in random interleaved order "
+           "(`--benchmark_repetitions`, `--benchmark_enable_random_interleaving`), so that a burst of load "
+           "spreads over all benchmarks. The first table gives the **median wall-clock time per call in ns** "
+           "over the repetitions and, in parentheses, the fastest–slowest repetition. "
            "A second table gives the median CPU time; when the machine is shared the two differ and "
            "the CPU time is the better estimate of the cost on an idle core.")
 out.append("")
@@ -255,15 +284,15 @@ def table(key, title):
                 cells.append("—")
                 continue
             cell = fmt(e[key])
-            if key == "real" and e.get("cv", 0) > 0.05:
-                cell += f" ({100 * e['cv']:.0f} %)"
             if kernel == TARGET_BENCH and r == TARGET_ROBOT:
                 cell = f"**{cell}**"
+            if key == "real" and "real_min" in e:
+                cell += f" ({fmt(e['real_min'])}–{fmt(e['real_max'])})"
             cells.append(cell)
         out.append(f"| {kernel} | " + " | ".join(cells) + f" | {DESCRIPTIONS.get(kernel, '')} |")
     out.append("")
 
-table("real", "Median wall-clock time per call (ns)")
+table("real", "Median wall-clock time per call (ns; fastest–slowest repetition in parentheses)")
 table("cpu", "Median CPU time per call (ns)")
 
 # Analytic against finite differences.
@@ -334,8 +363,9 @@ out.append("")
 out.append("`bench/bench_contact_models.cpp`: one `ContactModel::evaluate` call for the 4 feet of a quadruped "
            "standing a few mm deep on a plane, legs slightly tilted, outputs preallocated: **V** is the "
            "wrench at the contact vertices alone, **V+dV** adds its derivatives dV/dξ. Same method as "
-           f"above (one thread, {env['NMDP_REPS']} repetitions, medians); times in **µs**, the coefficient of "
-           "variation of the wall-clock time in parentheses when it exceeds 5 %. The targets are on V+dV.")
+           f"above (one thread, {env['NMDP_CONTACT_REPS']} repetitions, randomly interleaved); times in **µs**: "
+           "the median over the repetitions and, in parentheses, the fastest–slowest repetition. "
+           "The targets are on the median V+dV.")
 out.append("")
 if busy:
     out.append(f"The machine was shared during this run (load average ≥ {env['NMDP_NPROC']} − ½): judge the "
@@ -348,8 +378,8 @@ def cell_us(e, key):
     if not e or key not in e:
         return "—"
     c = us(e[key])
-    if key == "real" and e.get("cv", 0) > 0.05:
-        c += f" ({100 * e['cv']:.0f} %)"
+    if key + "_min" in e:
+        c += f" ({us(e[key + '_min'])}–{us(e[key + '_max'])})"
     return c
 
 def times(r):
@@ -384,12 +414,13 @@ for name, what, target, needs_shared in models:
     out.append(f"| {name} | {cell_us(v, 'real')} | {cell_us(v, 'cpu')} | {cell_us(dv, 'real')} | "
                f"{cell_us(dv, 'cpu')} | {target_cell} | {verdict(dv, target)} | {what} |")
 out.append("")
-fastest = [f"{name} {us(per['V+dV']['real_min'])} µs wall / {us(per['V+dV']['cpu_min'])} µs CPU"
-           for name, per in contact.items() if "real_min" in per.get("V+dV", {})]
+fastest = [f"{m[0]} {us(contact[m[0]]['V+dV']['real_min'])} µs wall / {us(contact[m[0]]['V+dV']['cpu_min'])} µs CPU"
+           for m in models if "real_min" in contact.get(m[0], {}).get("V+dV", {})]
 if fastest:
-    out.append(f"Fastest of the {env['NMDP_REPS']} repetitions of V+dV (the least disturbed one): "
+    out.append(f"Fastest of the {env['NMDP_CONTACT_REPS']} repetitions of V+dV (the least disturbed one): "
                + "; ".join(fastest) + ".")
     out.append("")
 print("\n".join(out))
 PY
-echo "wrote docs/BENCHMARKS.md" >&2
+mv -f "$output.partial" "$output"
+echo "wrote $output" >&2
