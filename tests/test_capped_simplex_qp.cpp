@@ -286,6 +286,14 @@ TEST(CappedSimplexQp, NoAllocationAfterWarmUp) {
 #endif
 }
 
+TEST(CappedSimplexQp, NoContactsIsAnEmptyConvergedStep) {
+  CappedSimplexQp qp{std::vector<int>{}};
+  Eigen::VectorXd dw(3);
+  const QpResult r = qp.solve(Eigen::MatrixXd(0, 0), 1.0, Eigen::VectorXd(0), Eigen::VectorXd(0), dw);
+  EXPECT_EQ(r.status, QpStatus::Converged);
+  EXPECT_EQ(dw.size(), 0);
+}
+
 TEST(CappedSimplexQp, DegenerateCases) {
   std::mt19937 rng(5);
   const std::vector<int> sizes = {6, 4, 5};

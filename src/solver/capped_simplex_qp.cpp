@@ -249,6 +249,10 @@ QpResult CappedSimplexQp::solve(const Eigen::MatrixXd& Q, double beta, const Eig
     return result;
   }
   if (dw.size() != n) dw.resize(n);
+  if (n == 0) {  // no contacts: the empty step is optimal
+    result.status = QpStatus::Converged;
+    return result;
+  }
   const int max_iterations = options.max_iterations > 0 ? options.max_iterations : 10 * n + 50;
 
   H_ = Q;

@@ -118,6 +118,16 @@ const std::vector<std::string>& methodNames() {
   return names;
 }
 
+const char* kineticEnergyName(KineticEnergyMeasure k) {
+  return k == KineticEnergyMeasure::FullBody ? "full-body" : "contact-points";
+}
+
+std::optional<KineticEnergyMeasure> parseKineticEnergy(const std::string& name) {
+  if (name == "full-body") return KineticEnergyMeasure::FullBody;
+  if (name == "contact-points") return KineticEnergyMeasure::ContactPoints;
+  return std::nullopt;
+}
+
 const char* toString(StepStatus status) {
   switch (status) {
     case StepStatus::Converged: return "converged";

@@ -20,6 +20,7 @@ StepResidual::StepResidual(const System& system) : data(*system.model), data_pre
   wrenches.resize(C);
   for (ContactWrenches& cw : wrenches) cw.resize(K_vertices_);
   jacobians.assign(C, Mat6X::Zero(6, n_));
+  contact_points_n_.assign(C, Vec3::Zero());
   q_n_.setZero(n_);
   qd_n_.setZero(n_);
   target_.position.setZero(n_);
@@ -37,9 +38,10 @@ StepResidual::StepResidual(const System& system) : data(*system.model), data_pre
 
 void StepResidual::prepare(const System& system, Form form, double h, const Eigen::VectorXd& q_n,
                            const Eigen::VectorXd& qd_n, const Eigen::VectorXd& q_prev, double h_prev,
-                           const PdTarget& target, const Mat3& base_chart) {
+                           const PdTarget& target, const Mat3& base_chart, KineticEnergyMeasure kinetic_energy) {
   const Model& model = *system.model;
   form_ = form;
+  kinetic_energy_ = kinetic_energy;
   h_ = h;
   q_n_ = q_n;
   qd_n_ = qd_n;
@@ -47,9 +49,14 @@ void StepResidual::prepare(const System& system, Form form, double h, const Eige
   target_.velocity = target.velocity;
   data.base_chart = base_chart;
   pdPotentialHessianDiagonal(system.gains, h, pd_hessian_);
+  data_prev_.base_chart = base_chart;
+  if (kinetic_energy == KineticEnergyMeasure::ContactPoints && form == Form::PositionBased) {
+    forwardKinematics(model, data_prev_, q_n);
+    for (size_t c = 0; c < system.contacts.size(); ++c)
+      contact_points_n_[c] = linkPoint(model, data_prev_, system.contacts[c].link, system.contacts[c].offset);
+  }
   if (form != Form::PositionBased) return;
   const double alpha = h / h_prev;
-  data_prev_.base_chart = base_chart;
   forwardKinematics(model, data_prev_, q_n);
   bodyTransforms(model, data_prev_, transforms_n_);
   forwardKinematics(model, data_prev_, q_prev);
@@ -72,6 +79,7 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
     work_.noalias() = data.H * data.qd_work;
     K = 0.5 * data.qd_work.dot(work_);
     grad_K = work_ / h_;
+    addKineticEnergyConfigurationGradient(model);
     hess_K = data.H * inv_h2;
   } else {
     forwardKinematics(model, data, theta);
@@ -96,6 +104,37 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
     }
   }
   if (m_ > 0) addContacts(system, w, first_order);
+  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy();
+}
+
+void StepResidual::addKineticEnergyConfigurationGradient(const Model& model) {
+  // ∂T/∂q at fixed q̇ = θ̇, world-frame composite form: moving q_j turns its subtree about S_j. Each
+  // body's inertia turns with it (−(S_j × v_k)ᵀ h_k) and its velocity changes by S_j × (v_k − v_λ(j)),
+  // h_k = I_k v_k; the two leave  ∂T/∂q_j = −S_jᵀ (v_λ(j) ×* Σ_{k ⪰ j} h_k).
+  // data.v and data.hc (composite momenta) are those of rneaDerivatives at (θ, θ̇).
+  for (int j = 0; j < model.nq; ++j) {
+    const int parent = model.bodies[j].parent;
+    if (parent >= 0) grad_K[j] -= data.S[j].dot(crossForce(data.v[parent], data.hc[j]));
+  }
+}
+
+void StepResidual::contactPointEnergy() {
+  // After addContacts: jacobians at θ; data.qd_work = θ̇ (NE).
+  K = 0.0;
+  grad_K.setZero();
+  hess_K.setZero();
+  const double inv_h = 1.0 / h_;
+  for (size_t c = 0; c < jacobians.size(); ++c) {
+    const auto J = jacobians[c].bottomRows<3>();
+    Vec3 u;
+    if (form_ == Form::NewtonEuler)
+      u.noalias() = J * data.qd_work;
+    else
+      u = (frames[c].position - contact_points_n_[c]) * inv_h;
+    K += 0.5 * u.squaredNorm();
+    grad_K.noalias() += J.transpose() * (u * inv_h);
+    hess_K.noalias() += (inv_h * inv_h * J.transpose()) * J;
+  }
 }
 
 void StepResidual::evaluateContacts(const System& system, const Eigen::VectorXd& q) {

@@ -9,8 +9,12 @@
 // The (∂J_cᵀ/∂θ) V_c w_c term needs no model derivative and is in both. A constant generalized
 // force System::external_force is subtracted from G in both forms.
 //
-// NE: ∇K = H θ̇ / h and ∇²K = H / h² (Gauss–Newton, the ∂H/∂θ terms dropped, DESIGN.md 2.1).
-// PBD: K, ∇K, ∇²K exact. Armature (rotor inertia) enters the PBD energies as ½ a_j (Δθ_j)²/h² so
+// NE: ∇K = H θ̇ / h + ∂T/∂q(θ, θ̇) exact (O(n), from RNEA's velocities and momenta), and
+// ∇²K = H / h² (Gauss–Newton: the ∂H/∂θ terms dropped, DESIGN.md 2.1).
+// PBD: K, ∇K, ∇²K exact.
+// Contact-point K (KineticEnergyMeasure::ContactPoints): K = ½ Σ_c ‖u_c‖² with u_c the velocity of
+// the sphere centre, J_c θ̇ (NE) or (p_c(θ) − p_c(q_n))/h (PBD); ∇K = Σ J_cᵀ u_c / h and the
+// Gauss–Newton ∇²K = Σ J_cᵀ J_c / h² (linear rows of J_c) in both forms. Armature (rotor inertia) enters the PBD energies as ½ a_j (Δθ_j)²/h² so
 // both forms integrate the same H.
 #pragma once
 #include <vector>
@@ -30,7 +34,8 @@ class StepResidual {
   // Fixes the data of one attempt of size h from (q_n, q̇_n) (NE) or (q_n, q_prev, h_prev) (PBD),
   // with the PD target at the end of the step and the floating-base chart of the state.
   void prepare(const System& system, Form form, double h, const Eigen::VectorXd& q_n, const Eigen::VectorXd& qd_n,
-               const Eigen::VectorXd& q_prev, double h_prev, const PdTarget& target, const Mat3& base_chart);
+               const Eigen::VectorXd& q_prev, double h_prev, const PdTarget& target, const Mat3& base_chart,
+               KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBody);
 
   // G, ∂G/∂θ (exact if first_order, else ∂Ḡ/∂θ), B = Σ J_cᵀ V_c = −∂G/∂w, K, ∇K, ∇²K at (θ, w).
   void evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w, bool first_order);
@@ -59,7 +64,12 @@ class StepResidual {
   void addContacts(const System& system, const Eigen::VectorXd& w, bool first_order);
   void contactGeometry(const System& system, bool with_derivatives);  // frames, J_c, V_c, B
 
+  void contactPointEnergy();
+  void addKineticEnergyConfigurationGradient(const Model& model);  // += ∂T/∂q (NE)
+
   Form form_ = Form::NewtonEuler;
+  KineticEnergyMeasure kinetic_energy_ = KineticEnergyMeasure::FullBody;
+  std::vector<Vec3> contact_points_n_;  // sphere centres at q_n
   double h_ = 0.0;
   int n_ = 0, m_ = 0, K_vertices_ = 0;
   Eigen::VectorXd q_n_, qd_n_;

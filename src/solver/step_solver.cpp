@@ -10,11 +10,35 @@ namespace nmdp {
 
 namespace {
 bool allFinite(const Eigen::VectorXd& v) { return v.allFinite(); }
-bool isSmall(const Eigen::VectorXd& dw, double tol) { return dw.size() == 0 || dw.lpNorm<Eigen::Infinity>() < tol; }
 }  // namespace
 
+bool StepSolver::stepIsWorthTaking(const IntegratorOptions& options, double K) {
+  if (dw_.size() == 0) return false;
+  // Δw has no scale of its own (a deep foot's vertices carry 1e9 N, and a weight of 1e-8 on them
+  // matters), so tol_w bounds the change of the generalized contact force relative to the weight.
+  generalized_force_change_.noalias() = B_theta_ * dw_;
+  if (generalized_force_change_.lpNorm<Eigen::Infinity>() < options.tol_w * weight_scale_) return false;
+  Qdw_.noalias() = Q_ * dw_;
+  const double predicted = -(g_.dot(dw_) + 0.5 * dw_.dot(Qdw_));
+  const double theta_accuracy = projection_tolerance_ * residual_.h() * residual_.h() / mass_scale_;
+  const double resolvable =
+      64 * std::numeric_limits<double>::epsilon() * std::abs(K) + residual_.grad_K.lpNorm<1>() * theta_accuracy;
+  return predicted > resolvable;
+}
+
+void StepSolver::scaleFromQ() {
+  // β is relative to each weight's own curvature Q_ii (Marquardt's scaling): a foot in the air has
+  // vertices of 0.1 N and a loaded foot of hundreds of N, so their Q_ii differ by 1e6, and one
+  // scalar penalty either freezes the light ones or does not restrain the heavy ones.
+  const double largest = Q_.size() ? Q_.diagonal().maxCoeff() : 0.0;
+  const double floor = largest > 0 ? 1e-12 * largest : 1.0;
+  penalty_scale_ = Q_.diagonal().cwiseMax(floor);
+}
+
 bool StepSolver::solveQp(double beta) {
-  const QpResult qp = qp_.solve(Q_, beta * q_scale_, g_, w_, dw_, warm_valid_ ? &warm_ : nullptr);
+  Q_penalized_ = Q_;
+  Q_penalized_.diagonal() += beta * penalty_scale_;
+  const QpResult qp = qp_.solve(Q_penalized_, 0.0, g_, w_, dw_, warm_valid_ ? &warm_ : nullptr);
   if (qp.status != QpStatus::Converged) return false;
   warm_ = qp_.activeSet();
   warm_valid_ = true;
@@ -47,6 +71,13 @@ StepSolver::StepSolver(const System& system, const IntegratorOptions& options)
   dw_.setZero(m);
   g_.setZero(m);
   D_.setZero(n, m);
+  D_scratch_.setZero(n, m);
+  Qdw_.setZero(m);
+  penalty_scale_.setZero(m);
+  Q_penalized_.setZero(m, m);
+  B_theta_.setZero(n, m);
+  generalized_force_change_.setZero(n);
+  step_scratch_.setZero(n);
   Q_.setZero(m, m);
   HD_.setZero(n, m);
   mass_scale_ = model.total_mass > 0 ? model.total_mass : 1.0;
@@ -59,12 +90,13 @@ Vec6 StepSolver::contactWrench(int c) const {
 }
 
 template <typename Derived>
-void StepSolver::solveInPlace(Eigen::MatrixBase<Derived>& x) {
-  // x ← Q U⁻¹ L⁻¹ P x, written out so that no temporary is allocated (FullPivLU::solve allocates).
-  x = lu_.permutationP() * x;
-  lu_.matrixLU().template triangularView<Eigen::UnitLower>().solveInPlace(x);
-  lu_.matrixLU().template triangularView<Eigen::Upper>().solveInPlace(x);
-  x = lu_.permutationQ() * x;
+void StepSolver::solveInPlace(Eigen::MatrixBase<Derived>& x, Eigen::MatrixBase<Derived>& scratch) {
+  // x ← Q U⁻¹ L⁻¹ P x, written out with a preallocated scratch of x's size: FullPivLU::solve and an
+  // in-place permutation product both allocate a temporary.
+  scratch.noalias() = lu_.permutationP() * x;
+  lu_.matrixLU().template triangularView<Eigen::UnitLower>().solveInPlace(scratch);
+  lu_.matrixLU().template triangularView<Eigen::Upper>().solveInPlace(scratch);
+  x.noalias() = lu_.permutationQ() * scratch;
 }
 
 StepAttempt StepSolver::attempt(const System& system, const IntegratorOptions& options, const SimulationState& state,
@@ -82,7 +114,9 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
   const double lever = 1.0 + theta.lpNorm<Eigen::Infinity>();
   const double tolerance = options.projection_tolerance * weight_scale_ +
                            1e3 * std::numeric_limits<double>::epsilon() * mass_scale_ * lever * lever / (h * h);
-  const bool secant = !first_order && options.zeroth_order_secant;
+  projection_tolerance_ = tolerance;
+  // Only contacts make ∂Ḡ/∂θ inexact; without them a secant would learn the inertial nonlinearity.
+  const bool secant = !first_order && options.zeroth_order_secant && residual_.weightCount() > 0;
   residual_.evaluate(system, theta, w, first_order);
   ++stats.g_evaluations;
   if (!allFinite(residual_.G)) return false;
@@ -98,7 +132,7 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
     }
     if (lu_.rank() < n) return false;
     step_ = -residual_.G;
-    solveInPlace(step_);
+    solveInPlace(step_, step_scratch_);
     ++stats.newton_iterations;
     if (secant) G_previous_ = residual_.G;
     double trial_norm = 0.0;
@@ -133,7 +167,8 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
   StepAttempt stats;
   const bool first_order = needsContactDerivative(options.method);
   const Form form = isPositionBased(options.method) ? Form::PositionBased : Form::NewtonEuler;
-  residual_.prepare(system, form, h, state.q, state.qd, state.q_prev, state.h_prev, target, state.base_chart);
+  residual_.prepare(system, form, h, state.q, state.qd, state.q_prev, state.h_prev, target, state.base_chart,
+                    options.kinetic_energy);
   theta_ = state.q;
   w_ = w_start;
   if (!project(system, options, theta_, w_, first_order, stats)) {
@@ -150,7 +185,7 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
     }
     ++stats.outer_iterations;
     if (need_direction) {
-      if (!first_order && options.zeroth_order_secant) {
+      if (!first_order && options.zeroth_order_secant && residual_.weightCount() > 0) {
         jacobian_ = residual_.dG_dtheta + secant_correction_;
         lu_.compute(jacobian_);
       } else {
@@ -160,23 +195,35 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
         stats.status = StepStatus::ProjectionFailed;
         return stats;
       }
+      B_theta_ = residual_.B;
       D_ = residual_.B;
-      solveInPlace(D_);
+      solveInPlace(D_, D_scratch_);
       g_.noalias() = D_.transpose() * residual_.grad_K;
       HD_.noalias() = residual_.hess_K * D_;
       Q_.noalias() = D_.transpose() * HD_;
-      // β is relative to the scale of Q, which follows V² and 1/h² over many orders of magnitude
-      // (a foot in the air carries k ζ = 0.1 N, a landing one thousands): an absolute β carried
-      // from step to step would be meaningless.
-      const double mean_diagonal = Q_.size() ? Q_.diagonal().mean() : 0.0;
-      q_scale_ = mean_diagonal > 0 ? mean_diagonal : 1.0;
+      scaleFromQ();
       need_direction = false;
     }
     if (!solveQp(beta)) {
       stats.status = StepStatus::QpFailed;
       return stats;
     }
-    if (!isSmall(dw_, options.tol_w)) {
+    // Converged when the step is below tol_w, or when the decrease of K the QP predicts is below
+    // what K can resolve: θ is only known to the projection's tolerance, so the trust-region test
+    // would compare noise (at small h this, not ε, is what stops the iteration). A large penalty
+    // makes any step small, so convergence is confirmed without it (re-solved at β_min); if the
+    // penalty was hiding progress, it is lowered and the QP solved again (no projection needed).
+    if (!stepIsWorthTaking(options, K)) {
+      if (beta <= options.beta_min) break;
+      if (!solveQp(options.beta_min)) {
+        stats.status = StepStatus::QpFailed;
+        return stats;
+      }
+      if (!stepIsWorthTaking(options, K)) break;
+      beta = std::max(options.beta_min, beta / (options.eta * options.eta));
+      continue;
+    }
+    {
       w_trial_ = w_ + dw_;
       Eigen::VectorXd& candidate = theta_candidate_;
       candidate = theta_;
@@ -255,8 +302,7 @@ StepAttempt StepSolver::neMdp(const System& system, const SimulationState& state
     g_.noalias() += Q_ * w_;
     // Bᵀ H⁻¹ B is singular when there are more vertices than degrees of freedom: a penalty far below
     // the scale of Q makes the optimum unique without changing the velocity noticeably.
-    const double mean_diagonal = Q_.diagonal().mean();
-    q_scale_ = mean_diagonal > 0 ? mean_diagonal : 1.0;
+    scaleFromQ();
     if (!solveQp(1e-12)) {
       stats.status = StepStatus::QpFailed;
       return stats;

@@ -3,8 +3,10 @@
 // NMDP (ne-pgm, ne-zopgm, pbd-pgm, pbd-zopgm), Algorithm 1 of the paper as fixed by DESIGN.md 3:
 //   θ ← q_n, w ← w_start;  θ ← Proj(θ, w)
 //   repeat:  D = (∂G/∂θ)⁻¹ B  (B = −∂G/∂w),  g = Dᵀ∇K,  Q = Dᵀ ∇²K D
-//            Δw = argmin gᵀΔw + ½ Δwᵀ(Q + βI)Δw  over the capped simplices (CappedSimplexQp)
-//            ‖Δw‖∞ < tol_w → done
+//            Δw = argmin gᵀΔw + ½ Δwᵀ(Q + β diag Q)Δw  over the capped simplices (CappedSimplexQp;
+//            the paper and DESIGN.md write βI: β is made relative to each weight's own curvature)
+//            ‖B Δw‖∞ < tol_w·m‖g‖ (the step as a generalized force), or a predicted decrease of K
+//            below what K resolves → done
 //            θ' = Proj(θ, w + Δw);  fails or K(θ') ≥ K(θ) → β ← ηβ (fail past β_max), same D
 //            else accept; β ← max(β/η, β_min); done if K(θ) − K(θ') < ε or ‖θ' − θ‖∞ < ε
 // The zeroth-order variants use ∂Ḡ/∂θ (no contact-model derivative) in D and in Newton.
@@ -59,10 +61,14 @@ class StepSolver {
   bool project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
                const Eigen::VectorXd& w, bool first_order, StepAttempt& stats);
   void updateSecant();
-  bool solveQp(double beta);  // Δw into dw_ with penalty β·q_scale_; false if the QP failed
+  void scaleFromQ();          // penalty_scale_ from the diagonal of Q_
+  bool solveQp(double beta);  // Δw into dw_ with the penalty β·diag(penalty_scale_); false if the QP failed
+  // Whether dw_ is a step to try: its contact force change above tol_w·m‖g‖, and predicted to lower
+  // K by more than K can resolve.
+  bool stepIsWorthTaking(const IntegratorOptions& options, double K);
   // x = (∂G/∂θ)⁻¹ b in place, with the current factorization.
   template <typename Derived>
-  void solveInPlace(Eigen::MatrixBase<Derived>& x);
+  void solveInPlace(Eigen::MatrixBase<Derived>& x, Eigen::MatrixBase<Derived>& scratch);
 
   StepResidual residual_;
   CappedSimplexQp qp_;
@@ -71,12 +77,16 @@ class StepSolver {
   Eigen::FullPivLU<Eigen::MatrixXd> lu_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
-  Eigen::MatrixXd D_, Q_, HD_;
+  Eigen::MatrixXd D_, Q_, HD_, D_scratch_;
+  Eigen::VectorXd step_scratch_, Qdw_, generalized_force_change_;
+  Eigen::VectorXd penalty_scale_;  // the unit of β per weight: max(Q_ii, 1e-12·max Q_ii)
+  Eigen::MatrixXd Q_penalized_;
+  Eigen::MatrixXd B_theta_;  // B at the current iterate (the residual may hold a rejected trial)
   Eigen::VectorXd G_previous_, secant_residual_;
   // Zeroth order: S, a secant estimate of the contact stiffness ∂Ḡ/∂θ lacks (kept across steps), and
   // ∂Ḡ/∂θ + S.
   Eigen::MatrixXd secant_correction_, jacobian_;
-  double q_scale_ = 1.0;       // mean diagonal of Q: the unit of β
+  double projection_tolerance_ = 0.0;  // ‖G‖∞ tolerance of the last projection
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
   double mass_scale_ = 1.0;
   int K_vertices_ = 0;
