@@ -58,6 +58,8 @@ struct IntegratorOptions {
   // Off by default: it halves the sub-steps of a landing but its rank-one updates couple the
   // tangential and normal directions, and a resting box then creeps (2e-4 m over 10 s at 50 ms).
   bool zeroth_order_secant = false;
+  // Start Newton from θ = q_n + h q̇_n instead of q_n (DESIGN.md 3 allows a better predictor).
+  bool predict_first_iterate = false;  // measured on the trot: 8 % fewer outer iterations, 7 % of steps split
   // Start each step from the previous step's contact weights instead of w = 0 (both are feasible).
   bool warm_start_weights = true;
 };

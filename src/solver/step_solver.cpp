@@ -170,6 +170,7 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
   residual_.prepare(system, form, h, state.q, state.qd, state.q_prev, state.h_prev, target, state.base_chart,
                     options.kinetic_energy);
   theta_ = state.q;
+  if (options.predict_first_iterate) theta_.noalias() += h * state.qd;
   w_ = w_start;
   if (!project(system, options, theta_, w_, first_order, stats)) {
     stats.status = StepStatus::ProjectionFailed;
@@ -225,8 +226,10 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
     }
     {
       w_trial_ = w_ + dw_;
+      // Newton starts from the QP's own linear prediction of where the step goes, θ + D Δw.
       Eigen::VectorXd& candidate = theta_candidate_;
       candidate = theta_;
+      candidate.noalias() += D_ * dw_;
       const bool projected = project(system, options, candidate, w_trial_, first_order, stats);
       evaluated_here = false;
       if (!projected || !(residual_.K < K)) {
