@@ -12,5 +12,7 @@ int runInspect(const Args& args);
 extern const char* const kInspectHelp;
 int runWrench(const Args& args);
 extern const char* const kWrenchHelp;
+int runSimulate(const Args& args);
+extern const char* const kSimulateHelp;
 
 }  // namespace nmdp::app

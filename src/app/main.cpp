@@ -14,6 +14,8 @@ struct Command {
 };
 
 const Command kCommands[] = {
+    {"simulate", "simulate a scene (robot, contacts, terrain, method, gait) and write the run to HDF5",
+     nmdp::app::runSimulate, &nmdp::app::kSimulateHelp},
     {"inspect", "summarize a robot description (dof, joints, mass, links, feet) as JSON", nmdp::app::runInspect,
      &nmdp::app::kInspectHelp},
     {"wrench", "evaluate a contact model for one foot and print its wrench-space vertices", nmdp::app::runWrench,

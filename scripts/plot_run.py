@@ -1,0 +1,137 @@
+#!/usr/bin/python3
+"""Plots a run written by `nmdp simulate --out OUT.h5`: torso height and forward distance against time.
+
+Usage:  scripts/plot_run.py OUT.h5 PLOT.png
+Needs Debian's python3-h5py and python3-matplotlib (scripts/install-deps.sh), hence /usr/bin/python3.
+
+Reads the layout of DESIGN.md section 11 (src/io/trajectory_writer.hpp): /steps (the number of
+complete steps N), /time, /base/position (x 3), /status if present, and the root attribute `config`
+(the resolved scene as JSON), which gives the title (robot, integrator method, dt) when it parses.
+Only the first /steps rows are used: a run that ended has exactly that many, a killed run keeps the
+writer's reserved rows after them (NaN). Files without /steps use len(/time).
+Exits with status 1 and a one-line message when the file is missing, not HDF5, or lacks the data.
+"""
+import json
+import os
+import sys
+
+
+def fail(message):
+    sys.exit(f"plot_run.py: error: {message}")
+
+
+def text(value):
+    """An HDF5 string (bytes, str, or a 0-d array of either) as str, without trailing NULs."""
+    if getattr(value, "shape", None) == () and hasattr(value, "item"):
+        value = value.item()  # a numpy 0-d array or scalar
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", errors="replace")
+    return str(value).rstrip("\0").strip()
+
+
+def read_run(path):
+    """Returns (time, base_position, status or None, config dict or None, root attributes)."""
+    import h5py
+    import numpy as np
+
+    if not os.path.exists(path):
+        fail(f"{path}: no such file")
+    try:
+        f = h5py.File(path, "r")
+    except OSError as e:
+        fail(f"{path}: cannot open as HDF5 ({e})")
+    with f:
+        for name in ("time", "base/position"):
+            if name not in f:
+                fail(f"{path}: dataset '/{name}' is missing (is this a file written by 'nmdp simulate'?)")
+        try:
+            rows = len(f["time"])
+            if "steps" in f:
+                steps = int(f["steps"][()])
+                if not 0 <= steps <= rows:
+                    fail(f"{path}: '/steps' is {steps}, but '/time' has {rows} rows")
+            else:
+                steps = rows
+            time = np.asarray(f["time"][:steps], dtype=float).reshape(-1)
+            position = np.asarray(f["base/position"][:steps], dtype=float)
+        except (OSError, ValueError, TypeError) as e:
+            fail(f"{path}: cannot read '/steps', '/time' or '/base/position' ({e})")
+        if position.ndim != 2 or position.shape[1] != 3 or position.shape[0] < len(time):
+            fail(f"{path}: '/base/position' is {position.shape}, expected at least {len(time)} x 3 rows")
+        status = text(f["status"][()]) if "status" in f else None
+        attributes = {name: f.attrs[name] for name in f.attrs}
+    config = None
+    if "config" in attributes:
+        try:
+            config = json.loads(text(attributes["config"]))
+        except (ValueError, TypeError):
+            config = None  # a title without it is still a plot
+    return time, position[: len(time)], status, config, attributes
+
+
+def title_for(path, config, attributes, status):
+    """'robot, method, dt = ...' from the config (or the writer's extra attributes), plus an unfinished status."""
+
+    def lookup(keys, attribute):
+        node = config
+        for key in keys:
+            if not isinstance(node, dict) or key not in node:
+                node = None
+                break
+            node = node[key]
+        if node is None and attribute in attributes:
+            node = attributes[attribute]
+            node = node.item() if hasattr(node, "item") else node
+            node = text(node) if isinstance(node, (bytes, str)) else node
+        return node
+
+    robot = lookup(["robot", "urdf"], "robot")
+    method = lookup(["integrator", "method"], "method")
+    dt = lookup(["integrator", "dt"], "dt")
+    parts = []
+    if robot:
+        parts.append(os.path.splitext(os.path.basename(str(robot)))[0])
+    if method:
+        parts.append(str(method))
+    if isinstance(dt, (int, float)):
+        parts.append(f"dt = {dt:g} s")
+    title = ", ".join(parts) if parts else os.path.basename(path)
+    if status and status != "complete":
+        title += f"\n[{status}]"
+    return title
+
+
+def main(argv):
+    if len(argv) != 3 or argv[1] in ("-h", "--help"):
+        print(__doc__.strip().splitlines()[2], file=sys.stderr)
+        return 2 if len(argv) != 2 else 0
+    run_path, png_path = argv[1], argv[2]
+    time, position, status, config, attributes = read_run(run_path)
+    if len(time) == 0:
+        fail(f"{run_path}: the run has no steps (status: {status or 'unknown'})")
+
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    figure, (height_axes, distance_axes) = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
+    height_axes.plot(time, position[:, 2], color="tab:blue")
+    height_axes.set_ylabel("torso height (base z), m")
+    height_axes.grid(True, alpha=0.3)
+    distance_axes.plot(time, position[:, 0] - position[0, 0], color="tab:orange")
+    distance_axes.set_ylabel("forward distance (x - x0), m")
+    distance_axes.set_xlabel("time, s")
+    distance_axes.grid(True, alpha=0.3)
+    figure.suptitle(title_for(run_path, config, attributes, status))
+    figure.tight_layout()
+    try:
+        figure.savefig(png_path, dpi=100)
+    except OSError as e:
+        fail(f"{png_path}: cannot write ({e})")
+    print(f"wrote {png_path}: {len(time)} steps, t = {time[0]:g} .. {time[-1]:g} s")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main(sys.argv))
