@@ -96,7 +96,10 @@ int runSimulate(const Args& args) {
   nlohmann::json scene_json = loadSceneJson(opt.scene);
   for (const std::string& assignment : opt.overrides) applyOverride(scene_json, assignment, opt.scene + ": --set");
   SceneConfig config = parseScene(scene_json, opt.scene);
-  if (!opt.out.empty()) config.output_file = std::filesystem::absolute(opt.out).lexically_normal().string();
+  if (!opt.out.empty()) {
+    config.output_file = std::filesystem::absolute(opt.out).lexically_normal().string();
+    config.resolved["output"]["file"] = config.output_file;  // the config records the file written
+  }
 
   // Everything that can be wrong with the input is checked before the output file is created.
   const Model model = loadUrdf(config.urdf, urdfOptionsFor(config));

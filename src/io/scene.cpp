@@ -197,7 +197,7 @@ const std::vector<std::string> kVelocityKeys = {"base_linear", "base_angular"};
 const std::vector<std::string> kContactsKeys = {"points", "model"};
 const std::vector<std::string> kPointKeys = {"link", "offset", "radius", "name"};
 const std::vector<std::string> kIntegratorKeys = {
-    "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "beta_min", "beta_max",
+    "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "beta_min", "beta_max",
     "beta_initial", "max_outer_iterations", "projection_tolerance", "projection_max_iterations",
     "projection_backtracking", "warm_start_weights", "predict_first_iterate", "zeroth_order_secant"};
 const std::vector<std::string> kControllerKeys = {"kp", "kd", "tau_ff", "gait"};
@@ -367,6 +367,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   o.epsilon = number(in, "epsilon", o.epsilon, w, above(0));
   o.tol_w = number(in, "tol_w", o.tol_w, w, above(0));
   o.eta = number(in, "eta", o.eta, w, above(1));
+  o.eta_reject = number(in, "eta_reject", o.eta_reject, w, above(1));
   o.beta_min = number(in, "beta_min", o.beta_min, w, above(0));
   o.beta_max = number(in, "beta_max", o.beta_max, w, above(o.beta_min));
   o.beta_initial = number(in, "beta_initial", std::clamp(o.beta_initial, o.beta_min, o.beta_max), w,
@@ -387,6 +388,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
          {"epsilon", o.epsilon},
          {"tol_w", o.tol_w},
          {"eta", o.eta},
+         {"eta_reject", o.eta_reject},
          {"beta_min", o.beta_min},
          {"beta_max", o.beta_max},
          {"beta_initial", o.beta_initial},

@@ -40,7 +40,11 @@ struct IntegratorOptions {
   // Projected gradient method (DESIGN.md 3).
   double epsilon = 1e-6;         // accept-and-stop threshold on the K decrease (J) and on ‖Δθ‖∞
   double tol_w = 1e-8;           // stop when ‖Σ_c J_cᵀV_cΔw_c‖∞ < tol_w·m‖g‖ (Δw as a generalized force)
-  double eta = 1.5;              // trust-region growth / shrink factor
+  double eta = 1.5;              // trust-region relaxation: β ← max(β/η, β_min) after an accepted step
+  // β ← η_reject·β after a rejected one. DESIGN.md uses η both ways; the QP's model fails by far
+  // when it fails (a 1.5× penalty barely shortens the step), so a sharp increase wastes fewer
+  // projections: on the trot, 10 takes 72 G evaluations per step against 135 with 1.5.
+  double eta_reject = 10.0;
   double beta_min = 1e-4;
   double beta_max = 1e6;
   double beta_initial = 1e-4;    // β of the first step; later steps inherit it (SimulationState::beta)

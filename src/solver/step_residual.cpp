@@ -21,6 +21,7 @@ StepResidual::StepResidual(const System& system) : data(*system.model), data_pre
   for (ContactWrenches& cw : wrenches) cw.resize(K_vertices_);
   jacobians.assign(C, Mat6X::Zero(6, n_));
   contact_points_n_.assign(C, Vec3::Zero());
+  for (const ContactPoint& cp : system.contacts) contact_bodies_.push_back(model.links[cp.link].body);
   q_n_.setZero(n_);
   qd_n_.setZero(n_);
   target_.position.setZero(n_);
@@ -104,7 +105,7 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
     }
   }
   if (m_ > 0) addContacts(system, w, first_order);
-  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy();
+  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model);
 }
 
 void StepResidual::addKineticEnergyConfigurationGradient(const Model& model) {
@@ -118,8 +119,8 @@ void StepResidual::addKineticEnergyConfigurationGradient(const Model& model) {
   }
 }
 
-void StepResidual::contactPointEnergy() {
-  // After addContacts: jacobians at θ; data.qd_work = θ̇ (NE).
+void StepResidual::contactPointEnergy(const Model& model) {
+  // After addContacts: jacobians at θ; NE: data.v holds the bodies' world velocities at θ̇.
   K = 0.0;
   grad_K.setZero();
   hess_K.setZero();
@@ -134,6 +135,19 @@ void StepResidual::contactPointEnergy() {
     K += 0.5 * u.squaredNorm();
     grad_K.noalias() += J.transpose() * (u * inv_h);
     hess_K.noalias() += (inv_h * inv_h * J.transpose()) * J;
+    if (form_ != Form::NewtonEuler || contact_bodies_[c] < 0) continue;
+    // NE: u = J(θ) θ̇ also moves with θ at fixed θ̇. For q_l ⪯ body k the body's world velocity
+    // changes by S_l × (v_k − v_λ(l)) and the point by J_l, so ∂u/∂q_l = b + a × p + ω_k × J_l.
+    const int k = contact_bodies_[c];
+    const Vec3& p = frames[c].position;
+    const Vec3 omega = data.v[k].head<3>();
+    for (int l = k; l >= 0; l = model.bodies[l].parent) {
+      const int parent = model.bodies[l].parent;
+      const Vec6 relative = parent >= 0 ? Vec6(data.v[k] - data.v[parent]) : data.v[k];
+      const Vec6 d = crossMotion(data.S[l], relative);
+      const Vec3 du = d.tail<3>() + d.head<3>().cross(p) + omega.cross(J.col(l));
+      grad_K[l] += u.dot(du);
+    }
   }
 }
 

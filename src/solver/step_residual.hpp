@@ -13,8 +13,8 @@
 // ∇²K = H / h² (Gauss–Newton: the ∂H/∂θ terms dropped, DESIGN.md 2.1).
 // PBD: K, ∇K, ∇²K exact.
 // Contact-point K (KineticEnergyMeasure::ContactPoints): K = ½ Σ_c ‖u_c‖² with u_c the velocity of
-// the sphere centre, J_c θ̇ (NE) or (p_c(θ) − p_c(q_n))/h (PBD); ∇K = Σ J_cᵀ u_c / h and the
-// Gauss–Newton ∇²K = Σ J_cᵀ J_c / h² (linear rows of J_c) in both forms. Armature (rotor inertia) enters the PBD energies as ½ a_j (Δθ_j)²/h² so
+// the sphere centre, J_c θ̇ (NE) or (p_c(θ) − p_c(q_n))/h (PBD); ∇K exact in both (NE adds the
+// change of J_c(θ)θ̇ with θ), and the Gauss–Newton ∇²K = Σ J_cᵀ J_c / h² (linear rows of J_c). Armature (rotor inertia) enters the PBD energies as ½ a_j (Δθ_j)²/h² so
 // both forms integrate the same H.
 #pragma once
 #include <vector>
@@ -64,7 +64,8 @@ class StepResidual {
   void addContacts(const System& system, const Eigen::VectorXd& w, bool first_order);
   void contactGeometry(const System& system, bool with_derivatives);  // frames, J_c, V_c, B
 
-  void contactPointEnergy();
+  void contactPointEnergy(const Model& model);
+  std::vector<int> contact_bodies_;  // body of each contact (−1: welded to the world)
   void addKineticEnergyConfigurationGradient(const Model& model);  // += ∂T/∂q (NE)
 
   Form form_ = Form::NewtonEuler;

@@ -20,6 +20,7 @@ bool StepSolver::stepIsWorthTaking(const IntegratorOptions& options, double K) {
   if (generalized_force_change_.lpNorm<Eigen::Infinity>() < options.tol_w * weight_scale_) return false;
   Qdw_.noalias() = Q_ * dw_;
   const double predicted = -(g_.dot(dw_) + 0.5 * dw_.dot(Qdw_));
+  predicted_decrease_ = predicted;
   const double theta_accuracy = projection_tolerance_ * residual_.h() * residual_.h() / mass_scale_;
   const double resolvable =
       64 * std::numeric_limits<double>::epsilon() * std::abs(K) + residual_.grad_K.lpNorm<1>() * theta_accuracy;
@@ -120,7 +121,8 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
   residual_.evaluate(system, theta, w, first_order);
   ++stats.g_evaluations;
   if (!allFinite(residual_.G)) return false;
-  double norm = residual_.G.lpNorm<Eigen::Infinity>();
+  // Converged on ‖G‖∞; a step must decrease ‖G‖₂, the merit function Newton's direction descends.
+  double norm = residual_.G.lpNorm<Eigen::Infinity>(), merit = residual_.G.norm();
   for (int it = 0;; ++it) {
     if (norm <= tolerance) return true;
     if (it == options.projection_max_iterations) return false;
@@ -135,19 +137,20 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
     solveInPlace(step_, step_scratch_);
     ++stats.newton_iterations;
     if (secant) G_previous_ = residual_.G;
-    double trial_norm = 0.0;
+    double trial_merit = 0.0;
     for (int k = 0;; ++k) {
       theta_trial_ = theta + step_;
       residual_.evaluate(system, theta_trial_, w, first_order);
       ++stats.g_evaluations;
-      trial_norm = residual_.G.lpNorm<Eigen::Infinity>();
-      if (trial_norm < norm) break;
+      trial_merit = residual_.G.norm();
+      if (trial_merit < merit) break;
       if (k == options.projection_backtracking) return false;  // divergence (also catches NaN)
       step_ *= 0.5;
     }
     if (secant) updateSecant();
     theta.swap(theta_trial_);
-    norm = trial_norm;
+    merit = trial_merit;
+    norm = residual_.G.lpNorm<Eigen::Infinity>();
   }
 }
 
@@ -239,7 +242,7 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       evaluated_here = false;
       if (!projected || !(residual_.K < K)) {
         ++stats.rejected;
-        beta *= options.eta;
+        beta *= options.eta_reject;
         if (beta > options.beta_max) {
           stats.status = StepStatus::TrustRegionFailed;
           return stats;

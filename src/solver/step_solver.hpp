@@ -86,6 +86,7 @@ class StepSolver {
   // Zeroth order: S, a secant estimate of the contact stiffness ∂Ḡ/∂θ lacks (kept across steps), and
   // ∂Ḡ/∂θ + S.
   Eigen::MatrixXd secant_correction_, jacobian_;
+  double predicted_decrease_ = 0.0;    // of K, by the QP model, for the last step
   double projection_tolerance_ = 0.0;  // ‖G‖∞ tolerance of the last projection
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
   double mass_scale_ = 1.0;

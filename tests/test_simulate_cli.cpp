@@ -1,0 +1,715 @@
+// `nmdp simulate` end to end (DESIGN.md 11): every example scene runs; the output layout is the
+// documented one and its first row is the initial state; swapping the method or the contact model
+// with --set is a configuration change only; bad input gives one line on stderr, exit code 1 and
+// no output file; runs are deterministic; a run killed with SIGKILL leaves a readable file; --quiet.
+// Runs are kept short (duration 0.5–1 s at dt 0.05) so the whole file takes seconds.
+// tests/CMakeLists.txt gives tests no HDF5 include folder (nmdp_core links HDF5 privately); Debian
+// installs the serial headers under hdf5/serial.
+#if __has_include(<hdf5.h>)
+#include <hdf5.h>
+#else
+#include <hdf5/serial/hdf5.h>
+#endif
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <set>
+#include <thread>
+
+#include "io/hdf5_file.hpp"
+#include "io/trajectory_writer.hpp"
+#include "test_cli.hpp"
+#include "test_support.hpp"
+
+namespace nmdp::test {
+namespace {
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+std::string sceneFile(const std::string& name) { return sourcePath("models/scenes/" + name); }
+std::string trotScene() { return sceneFile("quadruped_trot_flat.json"); }
+
+std::string commandLine(const std::vector<std::string>& args) {
+  std::string s = "nmdp";
+  for (const std::string& a : args) s += " " + shellQuote(a);
+  return s;
+}
+
+// ---- reading the output with the HDF5 C API -----------------------------------------------------
+
+// A numeric dataset read as double (row-major, any rank), with its dimensions and stored type.
+struct Dataset {
+  bool ok = false;
+  std::vector<hsize_t> dims;
+  H5T_class_t type_class = H5T_NO_CLASS;
+  size_t type_size = 0;
+  std::vector<double> values;
+  long rows() const { return dims.empty() ? 0 : static_cast<long>(dims[0]); }
+  size_t rowSize() const {
+    size_t s = 1;
+    for (size_t i = 1; i < dims.size(); ++i) s *= dims[i];
+    return s;
+  }
+};
+
+bool exists(hid_t file, const std::string& name) {
+  // H5Lexists needs every intermediate group to exist.
+  size_t pos = 0;
+  while ((pos = name.find('/', pos + 1)) != std::string::npos)
+    if (H5Lexists(file, name.substr(0, pos).c_str(), H5P_DEFAULT) <= 0) return false;
+  return H5Lexists(file, name.c_str(), H5P_DEFAULT) > 0;
+}
+
+Dataset readDataset(const std::string& path, const std::string& name) {
+  H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr);  // failures are reported by the test
+  Dataset out;
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return out;
+  if (exists(f, name)) {
+    const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+    if (d >= 0) {
+      const hid_t space = H5Dget_space(d), type = H5Dget_type(d);
+      out.dims.resize(std::max(0, H5Sget_simple_extent_ndims(space)));
+      H5Sget_simple_extent_dims(space, out.dims.data(), nullptr);
+      out.type_class = H5Tget_class(type);
+      out.type_size = H5Tget_size(type);
+      const hssize_t count = H5Sget_simple_extent_npoints(space);
+      out.values.resize(static_cast<size_t>(std::max<hssize_t>(count, 0)));
+      out.ok = out.type_class == H5T_STRING ||
+               count == 0 || H5Dread(d, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.values.data()) >= 0;
+      H5Tclose(type);
+      H5Sclose(space);
+      H5Dclose(d);
+    }
+  }
+  H5Fclose(f);
+  return out;
+}
+
+// Every dataset path in the file ("/time", "/base/position", ...).
+std::set<std::string> datasetNames(const std::string& path) {
+  std::set<std::string> names;
+  const hid_t f = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  if (f < 0) return names;
+  struct Visit {
+    hid_t file;
+    std::set<std::string>* names;
+  } visit{f, &names};
+  const H5L_iterate_t callback = [](hid_t, const char* name, const auto*, void* data) -> herr_t {
+    Visit& v = *static_cast<Visit*>(data);
+    const hid_t object = H5Oopen(v.file, name, H5P_DEFAULT);
+    if (object >= 0) {
+      if (H5Iget_type(object) == H5I_DATASET) v.names->insert(std::string("/") + name);
+      H5Oclose(object);
+    }
+    return 0;
+  };
+  H5Lvisit(f, H5_INDEX_NAME, H5_ITER_NATIVE, callback, &visit);
+  H5Fclose(f);
+  return names;
+}
+
+// The number of complete rows: the scalar /steps when the writer stores one, else len(/time).
+long completeRows(const std::string& path) {
+  const Dataset steps = readDataset(path, "/steps");
+  if (steps.ok && steps.values.size() == 1) return std::lround(steps.values[0]);
+  const Dataset time = readDataset(path, "/time");
+  return time.ok ? time.rows() : -1;
+}
+
+json configOf(const std::string& path) {
+  try {
+    const h5::File file = h5::File::openRead(path);
+    return json::parse(file.readStringAttribute("/", "config"));
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << path << ": root attribute 'config' is not readable JSON: " << e.what();
+    return json();
+  }
+}
+
+std::string statusOf(const std::string& path) {
+  try {
+    return TrajectoryWriter::readStatus(path);
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << e.what();
+    return "<unreadable>";
+  }
+}
+
+// ---- running ------------------------------------------------------------------------------------
+
+// `nmdp simulate ARGS...` must complete: exit 0, status "complete". Returns the output path.
+CliResult runComplete(const std::vector<std::string>& args, const TempDir& dir, const std::string& out) {
+  std::vector<std::string> full = {"simulate"};
+  full.insert(full.end(), args.begin(), args.end());
+  full.insert(full.end(), {"--out", out});
+  SCOPED_TRACE(commandLine(full));
+  const CliResult r = runNmdp(full, dir);
+  EXPECT_TRUE(r.exited) << "nmdp was killed by a signal";
+  EXPECT_EQ(r.exit_code, 0) << "stderr: " << r.err;
+  EXPECT_TRUE(fs::exists(out)) << out << " was not written; stderr: " << r.err;
+  if (fs::exists(out)) {
+    EXPECT_EQ(statusOf(out), "complete") << "stderr: " << r.err;
+  }
+  return r;
+}
+
+// The contract for bad input: exit code 1, nothing on stdout, one stderr line
+// "nmdp simulate: error: ..." containing every string of `expect`, and no output file.
+void expectSimulateError(std::vector<std::string> args, const TempDir& dir, const std::vector<std::string>& expect) {
+  const std::string out = dir.file("bad_input_output.h5");
+  // --out first, so that a trailing "--set" without a value stays the last argument.
+  args.insert(args.begin(), {"simulate", "--out", out});
+  SCOPED_TRACE(commandLine(args));
+  const CliResult r = runNmdp(args, dir);
+  ASSERT_TRUE(r.exited) << "nmdp was killed by a signal";
+  EXPECT_EQ(r.exit_code, 1) << "stderr: " << r.err;
+  EXPECT_TRUE(r.out.empty()) << "nothing on stdout for bad input, got:\n" << r.out;
+  EXPECT_FALSE(fs::exists(out)) << "bad input created the output file";
+  EXPECT_FALSE(fs::exists(out + ".partial")) << "bad input left a partial output file";
+  fs::remove(out);
+  fs::remove(out + ".partial");
+  ASSERT_NO_FATAL_FAILURE(expectOneLine(r.err, "stderr"));
+  EXPECT_EQ(r.err.rfind("nmdp simulate: error: ", 0), 0u) << r.err;
+  for (const std::string& s : expect) EXPECT_NE(r.err.find(s), std::string::npos) << "missing '" << s << "' in: " << r.err;
+}
+
+double maxAbsDifference(const std::vector<double>& a, const std::vector<double>& b) {
+  if (a.size() != b.size()) return INFINITY;
+  double m = 0;
+  for (size_t i = 0; i < a.size(); ++i) m = std::max(m, std::abs(a[i] - b[i]));
+  return m;
+}
+
+bool allFinite(const std::vector<double>& v, size_t count) {
+  for (size_t i = 0; i < std::min(count, v.size()); ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+// The numeric datasets of DESIGN.md 11 and their shapes after the row dimension (-1: any size).
+const std::vector<std::pair<std::string, std::vector<long>>> kNumericDatasets = {
+    {"/time", {}},
+    {"/q", {-1}},
+    {"/qdot", {-1}},
+    {"/base/position", {3}},
+    {"/base/rpy", {3}},
+    {"/contacts/wrench", {-1, 6}},
+    {"/stats/outer_iterations", {}},
+    {"/stats/g_evaluations", {}},
+    {"/stats/substeps", {}},
+    {"/stats/min_substep", {}},
+    {"/stats/wall_time", {}},
+    {"/stats/converged", {}},
+};
+
+// ---- 1. every example scene completes -----------------------------------------------------------
+
+std::vector<std::string> exampleScenes() {
+  std::vector<std::string> names;
+  for (const auto& e : fs::directory_iterator(sourcePath("models/scenes")))
+    if (e.path().extension() == ".json") names.push_back(e.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+// The files a scene refers to that live in ../shared and are absent ("" if none).
+std::string missingSharedFile(const std::string& scene_path) {
+  json scene;
+  try {
+    scene = json::parse(readText(scene_path));
+  } catch (...) {
+    return "";  // the run reports it
+  }
+  const fs::path folder = fs::path(scene_path).parent_path();
+  const std::string shared = fs::weakly_canonical(NMDP_SHARED_DIR).string();
+  std::vector<std::string> refs;
+  auto collect = [&](const json& node, const char* key) {
+    if (node.is_object() && node.contains(key) && node.at(key).is_string()) refs.push_back(node.at(key).get<std::string>());
+  };
+  if (scene.contains("robot")) collect(scene["robot"], "urdf");
+  if (scene.contains("contacts") && scene["contacts"].is_object() && scene["contacts"].contains("model"))
+    collect(scene["contacts"]["model"], "file");
+  if (scene.contains("terrain")) collect(scene["terrain"], "file");
+  for (const std::string& r : refs) {
+    const fs::path p = fs::weakly_canonical(fs::path(r).is_absolute() ? fs::path(r) : folder / r);
+    if (!fs::exists(p) && p.string().rfind(shared, 0) == 0) return p.string();
+  }
+  return "";
+}
+
+class ExampleScene : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(ExampleScene, OneSecondCompletes) {
+  const std::string scene = sceneFile(GetParam());
+  if (const std::string missing = missingSharedFile(scene); !missing.empty())
+    GTEST_SKIP() << "../shared is absent (" << missing << "): skipping " << GetParam();
+  TempDir dir;
+  const std::string out = dir.file("run.h5");
+  const CliResult r = runComplete({scene, "--set", "duration=1", "--quiet"}, dir, out);
+  if (!fs::exists(out)) return;
+  const json config = configOf(out);
+  const double dt = config["integrator"]["dt"].get<double>();
+  const long expected = std::lround(1.0 / dt) + 1;
+  EXPECT_EQ(completeRows(out), expected) << "stderr: " << r.err;
+  for (const auto& [name, shape] : kNumericDatasets) {
+    const Dataset d = readDataset(out, name);
+    ASSERT_TRUE(d.ok) << name;
+    EXPECT_TRUE(allFinite(d.values, d.values.size())) << name << " has a non-finite value";
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, ExampleScene, ::testing::ValuesIn(exampleScenes()),
+                         [](const ::testing::TestParamInfo<std::string>& info) {
+                           std::string n = fs::path(info.param).stem().string();
+                           for (char& c : n)
+                             if (!std::isalnum(static_cast<unsigned char>(c))) c = '_';
+                           return n;
+                         });
+
+// ---- 2. output layout ---------------------------------------------------------------------------
+
+TEST(SimulateCli, OutputLayoutIsDesign11AndTheFirstRowIsTheInitialState) {
+  TempDir dir;
+  const std::string out = dir.file("layout.h5");
+  runComplete({trotScene(), "--set", "duration=0.5", "--quiet"}, dir, out);
+  ASSERT_TRUE(fs::exists(out));
+
+  // Exactly the documented datasets, plus /status (and /steps, the complete-row count, if present).
+  std::set<std::string> expected_names = {"/joint_names", "/contacts/names", "/status"};
+  for (const auto& [name, shape] : kNumericDatasets) expected_names.insert(name);
+  std::set<std::string> names = datasetNames(out);
+  names.erase("/steps");
+  EXPECT_EQ(names, expected_names);
+
+  constexpr double dt = 0.05, duration = 0.5;
+  const long N = std::lround(duration / dt) + 1;  // the initial row and one per step
+  EXPECT_EQ(completeRows(out), N);
+
+  const h5::File file = h5::File::openRead(out);
+  const std::vector<std::string> joint_names = file.readStrings("/joint_names");
+  const std::vector<std::string> contact_names = file.readStrings("/contacts/names");
+  const long n = static_cast<long>(joint_names.size()), C = static_cast<long>(contact_names.size());
+  EXPECT_EQ(n, 18) << "floating quadruped: 6 base + 12 joint coordinates";
+  EXPECT_EQ(C, 4) << "auto contacts on a quadruped: one per foot";
+  for (const std::string& c : contact_names) EXPECT_FALSE(c.empty());
+
+  std::map<std::string, Dataset> data;
+  for (const auto& [name, shape] : kNumericDatasets) {
+    SCOPED_TRACE(name);
+    const Dataset d = readDataset(out, name);
+    ASSERT_TRUE(d.ok) << name << " missing or unreadable";
+    std::vector<hsize_t> want = {static_cast<hsize_t>(N)};
+    for (long s : shape) want.push_back(static_cast<hsize_t>(s == -1 ? (name == "/contacts/wrench" ? C : n) : s));
+    EXPECT_EQ(d.dims, want) << name << " has the wrong shape";
+    EXPECT_TRUE(allFinite(d.values, d.values.size())) << name;
+    data[name] = d;
+  }
+  EXPECT_EQ(data["/time"].type_class, H5T_FLOAT);
+  EXPECT_EQ(data["/q"].type_class, H5T_FLOAT);
+  EXPECT_EQ(data["/stats/converged"].type_class, H5T_INTEGER);
+  EXPECT_EQ(data["/stats/outer_iterations"].type_class, H5T_INTEGER);
+  if (::testing::Test::HasFatalFailure() || data["/q"].values.size() != static_cast<size_t>(N * n)) return;
+
+  // Time: 0, dt, ..., duration.
+  for (long i = 0; i < N; ++i) EXPECT_NEAR(data["/time"].values[i], i * dt, 1e-9) << "row " << i;
+  for (long i = 0; i < N; ++i) EXPECT_EQ(data["/stats/converged"].values[i], 1.0) << "row " << i;
+
+  // The resolved config: JSON with absolute paths, the method, dt and the override.
+  const json config = configOf(out);
+  ASSERT_TRUE(config.is_object()) << config.dump();
+  ASSERT_TRUE(config.contains("robot") && config["robot"].contains("urdf")) << config.dump(2);
+  const std::string urdf = config["robot"]["urdf"].get<std::string>();
+  EXPECT_TRUE(fs::path(urdf).is_absolute()) << urdf;
+  EXPECT_TRUE(fs::exists(urdf) && fs::equivalent(urdf, quadrupedUrdf())) << urdf;
+  EXPECT_EQ(config["integrator"]["method"], "ne-pgm");
+  EXPECT_EQ(config["integrator"]["dt"], dt);
+  EXPECT_EQ(config["duration"], duration) << "the --set override is recorded";
+  EXPECT_EQ(config["controller"]["gait"]["type"], "trot");
+
+  // The first row is the initial state of the resolved config: joint pose, height, at rest.
+  const json& initial = config["robot"]["initial"];
+  ASSERT_TRUE(initial.contains("joints") && initial.contains("height")) << config.dump(2);
+  for (long j = 0; j < n; ++j) {
+    const std::string& name = joint_names[j];
+    if (initial["joints"].contains(name)) {
+      EXPECT_NEAR(data["/q"].values[j], initial["joints"][name].get<double>(), 1e-12) << name;
+    }
+    EXPECT_EQ(data["/qdot"].values[j], 0.0) << name << ": the run starts at rest";
+  }
+  EXPECT_NEAR(data["/q"].values[2], initial["height"].get<double>(), 1e-12) << "q[2] is the base height";
+  EXPECT_EQ(data["/stats/outer_iterations"].values[0], 0.0) << "row 0 is the initial state, not a step";
+
+  // q's base translation is /base/position (floating base: x, y, z are q[0..2]) on every row.
+  for (long i = 0; i < N; ++i)
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(data["/q"].values[i * n + k], data["/base/position"].values[i * 3 + k], 1e-12)
+          << "row " << i << " axis " << k;
+  // The robot stands on the ground at the start and stays up while trotting.
+  EXPECT_GT(data["/base/position"].values[(N - 1) * 3 + 2], 0.5 * initial["height"].get<double>());
+}
+
+// ---- 3. swapping the method or the contact model ------------------------------------------------
+
+struct RunResult {
+  std::vector<double> q;
+  json config;
+};
+RunResult runVariant(const std::vector<std::string>& sets, const TempDir& dir, const std::string& name) {
+  std::vector<std::string> args = {trotScene(), "--set", "duration=0.5", "--quiet"};
+  for (const std::string& s : sets) args.insert(args.end(), {"--set", s});
+  const std::string out = dir.file(name + ".h5");
+  runComplete(args, dir, out);
+  RunResult r;
+  if (!fs::exists(out)) return r;
+  r.q = readDataset(out, "/q").values;
+  r.config = configOf(out);
+  return r;
+}
+
+// The configs are equal once the keys at `paths` (json pointers) are removed. /output/file differs
+// by construction (each variant is written to its own --out file, and the config records it).
+void expectSameConfigBut(json a, json b, std::vector<std::string> pointers) {
+  pointers.push_back("/output/file");
+  for (const std::string& p : pointers) {
+    const json::json_pointer ptr(p);
+    const json::json_pointer parent = ptr.parent_pointer();
+    if (a.contains(ptr)) a[parent].erase(ptr.back());
+    if (b.contains(ptr)) b[parent].erase(ptr.back());
+  }
+  EXPECT_EQ(a, b) << "the configs differ in more than the override:\n" << json::diff(a, b).dump(2);
+}
+
+TEST(SimulateCli, SwappingTheMethodIsOneSetOnly) {
+  TempDir dir;
+  const RunResult base = runVariant({}, dir, "default");
+  const RunResult pbd = runVariant({"integrator.method=pbd-pgm"}, dir, "pbd");
+  ASSERT_FALSE(base.q.empty());
+  ASSERT_FALSE(pbd.q.empty());
+  ASSERT_EQ(base.q.size(), pbd.q.size());
+  EXPECT_GT(maxAbsDifference(base.q, pbd.q), 1e-9) << "ne-pgm and pbd-pgm gave the same /q";
+  EXPECT_EQ(base.config["integrator"]["method"], "ne-pgm");
+  EXPECT_EQ(pbd.config["integrator"]["method"], "pbd-pgm");
+  expectSameConfigBut(base.config, pbd.config, {"/integrator/method"});
+}
+
+TEST(SimulateCli, SwappingTheContactModelIsOneSetOnly) {
+  TempDir dir;
+  const RunResult base = runVariant({}, dir, "default");
+  const RunResult mu = runVariant({"contacts.model.mu=0.3"}, dir, "mu");
+  const std::string sand = sourcePath("data/granular/handmade_sand_rbf.h5");
+  const RunResult rbf = runVariant({"contacts.model.type=rbf", "contacts.model.file=" + sand}, dir, "rbf");
+  ASSERT_FALSE(base.q.empty());
+  ASSERT_FALSE(mu.q.empty());
+  ASSERT_FALSE(rbf.q.empty());
+  ASSERT_EQ(base.q.size(), mu.q.size());
+  ASSERT_EQ(base.q.size(), rbf.q.size());
+  EXPECT_GT(maxAbsDifference(base.q, mu.q), 1e-9) << "mu = 0.3 gave the same /q as the default Coulomb model";
+  EXPECT_GT(maxAbsDifference(base.q, rbf.q), 1e-9) << "the sand RBF gave the same /q as Coulomb";
+  EXPECT_EQ(mu.config["contacts"]["model"]["mu"], 0.3) << mu.config["contacts"].dump();
+  EXPECT_EQ(rbf.config["contacts"]["model"]["type"], "rbf") << rbf.config["contacts"].dump();
+  EXPECT_TRUE(rbf.config["contacts"]["model"].contains("file") &&
+              fs::equivalent(rbf.config["contacts"]["model"]["file"].get<std::string>(), sand))
+      << rbf.config["contacts"].dump();
+  expectSameConfigBut(base.config, mu.config, {"/contacts/model"});
+  expectSameConfigBut(base.config, rbf.config, {"/contacts/model"});
+}
+
+// ---- 4. bad input -------------------------------------------------------------------------------
+
+// A minimal scene in `dir` around the project's quadruped, with `extra` merged in.
+std::string writeScene(const TempDir& dir, const std::string& name, const json& extra = json::object()) {
+  json scene = {{"robot", {{"urdf", quadrupedUrdf()}}}, {"duration", 0.5}};
+  scene.merge_patch(extra);
+  return dir.write(name, scene.dump(2));
+}
+
+TEST(SimulateCli, MissingSceneFile) {
+  TempDir dir;
+  const std::string missing = dir.file("no_such_scene.json");
+  expectSimulateError({missing}, dir, {missing, "no such file"});
+}
+
+TEST(SimulateCli, MalformedJson) {
+  TempDir dir;
+  const std::string scene = dir.write("broken.json", "{\n  \"robot\": {\"urdf\": \"q.urdf\"},\n  \"duration\": ,\n}\n");
+  expectSimulateError({scene}, dir, {scene + ":3:", "invalid JSON"});
+}
+
+TEST(SimulateCli, UnknownKeySuggestsTheClosest) {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "typo.json", {{"integrator", {{"metod", "ne-pgm"}}}});
+  expectSimulateError({scene}, dir, {scene, "integrator.metod", "unknown key", "did you mean 'method'"});
+  const std::string top = writeScene(dir, "typo_top.json", {{"duraton", 1.0}});
+  expectSimulateError({top}, dir, {top, "duraton", "did you mean 'duration'"});
+}
+
+TEST(SimulateCli, WrongType) {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "type.json", {{"duration", "long"}});
+  expectSimulateError({scene}, dir, {scene, "duration", "expected a number", "\"long\""});
+  const std::string adaptive = writeScene(dir, "type2.json", {{"integrator", {{"adaptive", "yes"}}}});
+  expectSimulateError({adaptive}, dir, {"integrator.adaptive", "expected true or false"});
+}
+
+TEST(SimulateCli, OutOfRangeDt) {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "dt.json");
+  expectSimulateError({scene, "--set", "integrator.dt=0"}, dir, {"integrator.dt", "0"});
+  expectSimulateError({scene, "--set", "integrator.dt=-0.01"}, dir, {"integrator.dt", "-0.01"});
+  expectSimulateError({scene, "--set", "integrator.dt=2"}, dir, {"integrator.dt", "2"});
+  expectSimulateError({scene, "--set", "duration=0"}, dir, {"duration"});
+}
+
+TEST(SimulateCli, UnknownMethod) {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "method.json");
+  expectSimulateError({scene, "--set", "integrator.method=ne-pgmm"}, dir,
+                      {"integrator.method", "unknown method 'ne-pgmm'", "did you mean 'ne-pgm'", "pbd-zopgm"});
+}
+
+TEST(SimulateCli, MissingUrdf) {
+  TempDir dir;
+  const std::string scene = dir.write("nourdf.json", json({{"robot", {{"urdf", "robots/missing.urdf"}}}}).dump());
+  expectSimulateError({scene}, dir, {scene, "robot.urdf", "file not found", dir.file("robots/missing.urdf")});
+}
+
+TEST(SimulateCli, ContactLinkThatDoesNotExist) {
+  TempDir dir;
+  const std::string scene =
+      writeScene(dir, "link.json", {{"contacts", {{"points", json::array({{{"link", "FL_fot"}, {"radius", 0.02}}})}}}});
+  expectSimulateError({scene}, dir, {scene, "contacts.points", "FL_fot", "did you mean 'FL_foot'"});
+}
+
+TEST(SimulateCli, UnknownJointInGains) {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "kp.json", {{"controller", {{"kp", {{"FL_hip_jont", 30.0}}}}}});
+  expectSimulateError({scene}, dir, {scene, "controller.kp", "FL_hip_jont", "did you mean 'FL_hip_joint'"});
+}
+
+TEST(SimulateCli, MalformedSet) {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "set.json");
+  expectSimulateError({scene, "--set", "integrator.dt"}, dir, {"--set", "key.path=value"});
+  expectSimulateError({scene, "--set", "=0.01"}, dir, {"--set", "empty key"});
+  expectSimulateError({scene, "--set", "integrator..dt=0.01"}, dir, {"--set", "empty key"});
+  expectSimulateError({scene, "--set", "duration.x=1"}, dir, {"--set", "'duration'", "not an object"});
+  expectSimulateError({scene, "--set"}, dir, {"--set needs a value"});
+}
+
+TEST(SimulateCli, UnknownCommandLineOption) {
+  TempDir dir;
+  const std::string scene = writeScene(dir, "opt.json");
+  expectSimulateError({scene, "--frobnicate"}, dir, {"unknown option '--frobnicate'"});
+  expectSimulateError({scene, scene}, dir, {"one scene file expected"});
+  expectSimulateError({}, dir, {"scene file is required"});
+}
+
+// ---- 5. determinism -----------------------------------------------------------------------------
+
+TEST(SimulateCli, SameRunTwiceIsBitIdentical) {
+  TempDir dir;
+  const std::vector<std::string> args = {trotScene(), "--set", "duration=0.5", "--quiet"};
+  runComplete(args, dir, dir.file("a.h5"));
+  runComplete(args, dir, dir.file("b.h5"));
+  for (const char* name : {"/time", "/q", "/qdot", "/contacts/wrench"}) {
+    const Dataset a = readDataset(dir.file("a.h5"), name), b = readDataset(dir.file("b.h5"), name);
+    ASSERT_TRUE(a.ok && b.ok) << name;
+    ASSERT_EQ(a.dims, b.dims) << name;
+    EXPECT_EQ(std::memcmp(a.values.data(), b.values.data(), a.values.size() * sizeof(double)), 0)
+        << name << " differs between two identical runs (max |diff| " << maxAbsDifference(a.values, b.values) << ")";
+  }
+}
+
+// ---- 6. SIGKILL half-way ------------------------------------------------------------------------
+
+TEST(SimulateCli, RunKilledHalfWayLeavesAReadableFile) {
+  TempDir dir;
+  const std::string out = dir.file("killed.h5");
+  const std::string err = dir.file("killed_stderr.txt");
+  const std::vector<std::string> args = {NMDP_BINARY, "simulate", trotScene(), "--set", "duration=1000",
+                                         "--set", "integrator.dt=0.05", "--out", out, "--quiet"};
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_RDWR);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(null, 0);
+    ::dup2(null, 1);
+    ::dup2(e, 2);
+    std::vector<char*> argv;
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  // The file appears (renamed from .partial) once every dataset exists; the writer then commits
+  // steps at least every flush_interval (1 s). Wait for the file, then long enough for commits.
+  const auto start = std::chrono::steady_clock::now();
+  bool appeared = false, exited_early = false;
+  int status = 0;
+  while (std::chrono::steady_clock::now() - start < std::chrono::seconds(20)) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited_early = true;
+      break;
+    }
+    if (fs::exists(out)) {
+      appeared = true;
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  if (appeared) std::this_thread::sleep_for(std::chrono::milliseconds(2500));
+  if (!exited_early) {
+    if (::waitpid(pid, &status, WNOHANG) == pid) {
+      exited_early = true;
+    } else {
+      ::kill(pid, SIGKILL);
+      ::waitpid(pid, &status, 0);
+    }
+  }
+  ASSERT_FALSE(exited_early) << "nmdp simulate ended before the kill (exit "
+                             << (WIFEXITED(status) ? WEXITSTATUS(status) : -1) << "): " << readText(err);
+  ASSERT_TRUE(appeared) << "the output file did not appear within 20 s; stderr: " << readText(err);
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+
+  // The killed file opens, says "running" and holds complete, finite rows.
+  EXPECT_EQ(statusOf(out), "running");
+  const long rows = completeRows(out);
+  EXPECT_GE(rows, 1) << "no complete row survived 2.5 s of running";
+  if (rows < 1) return;
+  std::cout << "killed after " << rows << " complete rows (" << (fs::exists(out) ? fs::file_size(out) : 0) << " bytes)\n";
+  const Dataset time = readDataset(out, "/time");
+  ASSERT_TRUE(time.ok);
+  ASSERT_GE(time.rows(), rows);
+  for (long i = 0; i < rows; ++i) EXPECT_NEAR(time.values[i], 0.05 * i, 1e-9) << "row " << i;
+  for (const auto& [name, shape] : kNumericDatasets) {
+    const Dataset d = readDataset(out, name);
+    ASSERT_TRUE(d.ok) << name << " is unreadable in the killed file";
+    ASSERT_GE(d.rows(), rows) << name << " is shorter than the complete-row count";
+    EXPECT_TRUE(allFinite(d.values, static_cast<size_t>(rows) * d.rowSize())) << name << " has a non-finite complete row";
+  }
+  const Dataset conv = readDataset(out, "/stats/converged");
+  for (long i = 0; i < rows; ++i) EXPECT_EQ(conv.values[i], 1.0) << "row " << i;
+  EXPECT_TRUE(configOf(out).is_object());
+}
+
+// ---- exit code 4: a failed step, SIGTERM -------------------------------------------------------
+
+TEST(SimulateCli, FailedStepExits4AndTheFileSaysWhy) {
+  // NE-MDP is the explicit baseline DESIGN.md 6 shows blowing up beyond ~7 ms: at dt 0.05 it fails
+  // within the first second on flat ground.
+  TempDir dir;
+  const std::string out = dir.file("failed.h5");
+  const std::vector<std::string> args = {"simulate", sceneFile("quadruped_stand_flat.json"), "--set", "duration=1",
+                                         "--set", "integrator.method=ne-mdp", "--out", out, "--quiet"};
+  SCOPED_TRACE(commandLine(args));
+  const CliResult r = runNmdp(args, dir);
+  ASSERT_TRUE(r.exited);
+  if (r.exit_code == 0) GTEST_SKIP() << "ne-mdp at dt 0.05 did not fail here: nothing to check";
+  EXPECT_EQ(r.exit_code, 4) << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  ASSERT_NO_FATAL_FAILURE(expectOneLine(r.err, "stderr"));
+  EXPECT_NE(r.err.find("failed"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find(out), std::string::npos) << r.err;
+  ASSERT_TRUE(fs::exists(out));
+  const std::string status = statusOf(out);
+  EXPECT_EQ(status.rfind("failed: ", 0), 0u) << status;
+  const long rows = completeRows(out);
+  ASSERT_GE(rows, 2) << "the initial row and the failed step's row";
+  const Dataset time = readDataset(out, "/time"), conv = readDataset(out, "/stats/converged");
+  ASSERT_TRUE(time.ok && conv.ok);
+  ASSERT_EQ(time.rows(), rows);
+  for (long i = 0; i + 1 < rows; ++i) EXPECT_EQ(conv.values[i], 1.0) << "row " << i;
+  EXPECT_EQ(conv.values[rows - 1], 0.0) << "the last row is the failed step";
+  for (const auto& [name, shape] : kNumericDatasets) {
+    const Dataset d = readDataset(out, name);
+    ASSERT_TRUE(d.ok) << name;
+    EXPECT_TRUE(allFinite(d.values, static_cast<size_t>(rows - 1) * d.rowSize())) << name << ": a completed row is not finite";
+    if (!allFinite(d.values, static_cast<size_t>(rows) * d.rowSize()))
+      std::cout << "note: " << name << " has non-finite values in the failed step's (last) row\n";
+  }
+}
+
+TEST(SimulateCli, SigtermStopsTheRunWithExit4AndAFailedStatus) {
+  TempDir dir;
+  const std::string out = dir.file("term.h5");
+  const std::string err = dir.file("term_stderr.txt");
+  const std::vector<std::string> args = {NMDP_BINARY, "simulate", trotScene(), "--set", "duration=1000", "--out", out,
+                                         "--quiet"};
+  const pid_t pid = ::fork();
+  ASSERT_GE(pid, 0);
+  if (pid == 0) {
+    const int null = ::open("/dev/null", O_RDWR);
+    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    ::dup2(null, 0);
+    ::dup2(null, 1);
+    ::dup2(e, 2);
+    std::vector<char*> argv;
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  const auto start = std::chrono::steady_clock::now();
+  while (!fs::exists(out) && std::chrono::steady_clock::now() - start < std::chrono::seconds(20))
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  ::kill(pid, SIGTERM);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  ASSERT_TRUE(WIFEXITED(status)) << "SIGTERM must stop the loop, not kill the process";
+  EXPECT_EQ(WEXITSTATUS(status), 4);
+  const std::string text = readText(err);
+  ASSERT_NO_FATAL_FAILURE(expectOneLine(text, "stderr"));
+  EXPECT_NE(text.find("interrupted by signal 15"), std::string::npos) << text;
+  const std::string st = statusOf(out);
+  EXPECT_EQ(st.rfind("failed: interrupted", 0), 0u) << st;
+  const long rows = completeRows(out);
+  EXPECT_GE(rows, 2);
+  const Dataset time = readDataset(out, "/time");
+  ASSERT_TRUE(time.ok);
+  EXPECT_EQ(time.rows(), rows) << "a stopped run is trimmed to its steps";
+  EXPECT_TRUE(allFinite(time.values, time.values.size()));
+}
+
+// The resolved config records the file the run was written to (--out), not the scene's default.
+TEST(SimulateCli, ConfigRecordsTheOutputFileOfOut) {
+  TempDir dir;
+  const std::string out = dir.file("elsewhere.h5");
+  runComplete({trotScene(), "--set", "duration=0.1", "--quiet"}, dir, out);
+  ASSERT_TRUE(fs::exists(out));
+  const json config = configOf(out);
+  ASSERT_TRUE(config.contains("output") && config["output"].contains("file")) << config.dump(2);
+  EXPECT_EQ(config["output"]["file"], out) << "config.output.file does not name the written file";
+}
+
+// ---- 7. --quiet ---------------------------------------------------------------------------------
+
+TEST(SimulateCli, QuietPrintsNothingAndOtherwiseOneSummaryLine) {
+  TempDir dir;
+  const std::string quiet_out = dir.file("quiet.h5");
+  const CliResult quiet = runComplete({trotScene(), "--set", "duration=0.5", "--quiet"}, dir, quiet_out);
+  EXPECT_TRUE(quiet.out.empty()) << "--quiet printed on stdout:\n" << quiet.out;
+  EXPECT_TRUE(quiet.err.empty()) << "--quiet printed on stderr:\n" << quiet.err;
+
+  const std::string loud_out = dir.file("loud.h5");
+  const CliResult loud = runComplete({trotScene(), "--set", "duration=0.5"}, dir, loud_out);
+  ASSERT_NO_FATAL_FAILURE(expectOneLine(loud.out, "stdout"));
+  EXPECT_NE(loud.out.find(loud_out), std::string::npos) << loud.out;
+  EXPECT_NE(loud.out.find("10 steps"), std::string::npos) << loud.out;
+  EXPECT_NE(loud.out.find("ne-pgm"), std::string::npos) << loud.out;
+  EXPECT_TRUE(loud.err.empty()) << "no progress bar when stderr is not a terminal:\n" << loud.err;
+}
+
+}  // namespace
+}  // namespace nmdp::test
