@@ -7,16 +7,18 @@
 //            the paper and DESIGN.md write βI: β is made relative to each weight's own curvature)
 //            ‖B Δw‖∞ < tol_w·m‖g‖ (the step as a generalized force), or a predicted decrease of K
 //            below what K resolves → done
-//            θ' = Proj(θ, w + Δw);  fails or K(θ') ≥ K(θ) → β ← ηβ (fail past β_max), same D
-//            else accept; β ← max(β/η, β_min); done if K(θ) − K(θ') < ε or ‖θ' − θ‖∞ < ε
+//            θ' = Proj(θ, w + Δw) from θ + DΔw;  fails or K(θ') ≥ K(θ) → β ← η_reject·β (fail past
+//            β_max), same D;  else accept, β ← max(β/η, β_min); done if K(θ) − K(θ') < ε·½m(‖g‖h)²
+//            or (first order only) ‖θ' − θ‖∞ < ε
 // The zeroth-order variants use ∂Ḡ/∂θ (no contact-model derivative) in D and in Newton.
 //
 // Proj(θ, w): Newton on G(·, w) = 0 with a full-pivoting LU (rank-revealing). A Newton step is
-// accepted only if ‖G‖∞ decreases; a full step that does not, a rank-deficient Jacobian, or the
-// iteration cap is divergence. A step may be halved up to projection_backtracking times before that
-// verdict (the paper notes the projection can diverge without a line search; the stiff contact
-// makes the full step overshoot on landing, and ∂Ḡ/∂θ of zeroth order lacks that stiffness). Converged when ‖G‖∞ ≤ projection_tolerance · m‖g‖ plus a
-// round-off allowance that grows as 1/h² (the inertial term is (θ − q_n)/h² and θ carries round-off).
+// accepted only if ‖G‖₂ decreases; a step that still does not after projection_backtracking
+// halvings, a rank-deficient Jacobian, or the iteration cap is divergence (the paper notes the
+// projection can diverge without a line search; the stiff contact makes the full step overshoot on
+// landing, and ∂Ḡ/∂θ of zeroth order lacks that stiffness). Converged when ‖G‖∞ ≤
+// projection_tolerance · m‖g‖ plus a round-off allowance that grows as 1/h² (the inertial term is
+// (θ − q_n)/h² and θ carries round-off).
 //
 // ne-mdp (DESIGN.md 6): explicit PD and dynamics at (q_n, q̇_n), vertices at q_n, one QP for the
 // weights that minimise the kinetic energy of the post-contact velocity, symplectic Euler update.
