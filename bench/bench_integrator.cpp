@@ -14,7 +14,6 @@
 
 #include "contact_models/coulomb_model.hpp"
 #include "control/gait.hpp"
-#include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/urdf_loader.hpp"
 #include "solver/integrator.hpp"
@@ -52,14 +51,7 @@ RunResult run(const Model& model, const Configuration& configuration, double dt,
   PlaneTerrain terrain;
   System system;
   system.model = &model;
-  for (const FootContact& f : detectFeet(model)) {
-    ContactPoint c;
-    c.name = f.link;
-    c.link = model.linkIndex(f.link);
-    c.offset = f.offset;
-    c.radius = f.radius;
-    system.contacts.push_back(c);
-  }
+  system.contacts = footContactPoints(model);
   system.contact_model = &contact_model;
   system.terrain = &terrain;
   system.gains = defaultPdGains(model);

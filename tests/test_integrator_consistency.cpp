@@ -14,7 +14,6 @@
 #include <stdexcept>
 
 #include "contact_models/coulomb_model.hpp"
-#include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 #include "solver/integrator.hpp"
 #include "terrain/plane.hpp"
@@ -43,14 +42,7 @@ struct Quadruped {
           return o;
         }())) {
     system.model = &model;
-    for (const FootContact& f : detectFeet(model)) {
-      ContactPoint c;
-      c.name = f.link;
-      c.link = model.linkIndex(f.link);
-      c.offset = f.offset;
-      c.radius = f.radius;
-      system.contacts.push_back(c);
-    }
+    system.contacts = footContactPoints(model);
     system.contact_model = model_override ? model_override : &contact_model;
     system.terrain = &terrain;
     system.gains = defaultPdGains(model);

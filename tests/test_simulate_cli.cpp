@@ -530,6 +530,23 @@ TEST(SimulateCli, SameRunTwiceIsBitIdentical) {
   }
 }
 
+// Starts args[0] with args in a child process, stdin and stdout on /dev/null and stderr into
+// `stderr_path`; returns its pid (negative if fork failed).
+pid_t spawn(const std::vector<std::string>& args, const std::string& stderr_path) {
+  const pid_t pid = ::fork();
+  if (pid != 0) return pid;
+  const int null = ::open("/dev/null", O_RDWR);
+  const int e = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  ::dup2(null, 0);
+  ::dup2(null, 1);
+  ::dup2(e, 2);
+  std::vector<char*> argv;
+  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+  argv.push_back(nullptr);
+  ::execv(argv[0], argv.data());
+  ::_exit(127);
+}
+
 // ---- 6. SIGKILL half-way ------------------------------------------------------------------------
 
 TEST(SimulateCli, RunKilledHalfWayLeavesAReadableFile) {
@@ -538,22 +555,10 @@ TEST(SimulateCli, RunKilledHalfWayLeavesAReadableFile) {
   const std::string err = dir.file("killed_stderr.txt");
   const std::vector<std::string> args = {NMDP_BINARY, "simulate", trotScene(), "--set", "duration=1000",
                                          "--set", "integrator.dt=0.05", "--out", out, "--quiet"};
-  const pid_t pid = ::fork();
+  const pid_t pid = spawn(args, err);
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_RDWR);
-    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(null, 0);
-    ::dup2(null, 1);
-    ::dup2(e, 2);
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
   // The file appears (renamed from .partial) once every dataset exists; the writer then commits
-  // steps at least every flush_interval (1 s). Wait for the file, then long enough for commits.
+  // every step (flush_every = 1). Wait for the file, then long enough for some steps.
   const auto start = std::chrono::steady_clock::now();
   bool appeared = false, exited_early = false;
   int status = 0;
@@ -646,20 +651,8 @@ TEST(SimulateCli, SigtermStopsTheRunWithExit4AndAFailedStatus) {
   const std::string err = dir.file("term_stderr.txt");
   const std::vector<std::string> args = {NMDP_BINARY, "simulate", trotScene(), "--set", "duration=1000", "--out", out,
                                          "--quiet"};
-  const pid_t pid = ::fork();
+  const pid_t pid = spawn(args, err);
   ASSERT_GE(pid, 0);
-  if (pid == 0) {
-    const int null = ::open("/dev/null", O_RDWR);
-    const int e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    ::dup2(null, 0);
-    ::dup2(null, 1);
-    ::dup2(e, 2);
-    std::vector<char*> argv;
-    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-    argv.push_back(nullptr);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
   const auto start = std::chrono::steady_clock::now();
   while (!fs::exists(out) && std::chrono::steady_clock::now() - start < std::chrono::seconds(20))
     std::this_thread::sleep_for(std::chrono::milliseconds(20));

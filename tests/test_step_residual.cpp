@@ -22,7 +22,6 @@
 #include "contact_models/coulomb_model.hpp"
 #include "control/stable_pd.hpp"
 #include "multibody/crba.hpp"
-#include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/pbd_terms.hpp"
 #include "multibody/rnea.hpp"
@@ -77,14 +76,7 @@ struct Scene {
         normal(std::sin(tilt_), 0.0, std::cos(tilt_)),
         tilt(tilt_) {
     system.model = &model;
-    for (const FootContact& f : detectFeet(model)) {
-      ContactPoint cp;
-      cp.name = f.link;
-      cp.link = model.linkIndex(f.link);
-      cp.offset = f.offset;
-      cp.radius = f.radius;
-      system.contacts.push_back(cp);
-    }
+    system.contacts = footContactPoints(model);
     system.contact_model = &contact_model;
     system.terrain = &terrain;
     system.gains = defaultPdGains(model);

@@ -899,17 +899,7 @@ UrdfOptions urdfOptionsFor(const SceneConfig& c) {
 std::vector<ContactPoint> contactPointsFor(const SceneConfig& c, const Model& model) {
   std::vector<ContactPoint> out;
   const Where top{fileOf(c), ""};
-  if (c.auto_contacts) {
-    for (const FootContact& f : detectFeet(model)) {
-      ContactPoint p;
-      p.name = f.link;
-      p.link = model.linkIndex(f.link);
-      p.offset = f.offset;
-      p.radius = f.radius;
-      out.push_back(p);
-    }
-    return out;
-  }
+  if (c.auto_contacts) return footContactPoints(model);
   for (size_t i = 0; i < c.contact_points.size(); ++i) {
     const ContactPointSpec& s = c.contact_points[i];
     ContactPoint p;

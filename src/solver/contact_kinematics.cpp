@@ -1,8 +1,22 @@
 #include "solver/contact_kinematics.hpp"
 
+#include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 
 namespace nmdp {
+
+std::vector<ContactPoint> footContactPoints(const Model& model) {
+  std::vector<ContactPoint> out;
+  for (const FootContact& f : detectFeet(model)) {
+    ContactPoint c;
+    c.name = f.link;
+    c.link = model.linkIndex(f.link);
+    c.offset = f.offset;
+    c.radius = f.radius;
+    out.push_back(c);
+  }
+  return out;
+}
 
 void contactFrame(const Model& model, const Data& data, const ContactPoint& contact, ContactFrame& out) {
   Mat3 R;

@@ -5,6 +5,7 @@
 // perturbation [rotation about the centre; translation] (contact_models/contact_model.hpp).
 #pragma once
 #include <string>
+#include <vector>
 
 #include "contact_models/contact_model.hpp"
 #include "multibody/data.hpp"
@@ -19,6 +20,9 @@ struct ContactPoint {
   Vec3 leg_axis = Vec3::UnitZ();  // link frame, from the foot up the leg (planar granular models)
   Vec3 lateral = Vec3::UnitY();   // link frame; ignored on a planar base (the world y axis is used)
 };
+
+// One contact sphere per foot found by detectFeet (multibody/feet.hpp), named after its link.
+std::vector<ContactPoint> footContactPoints(const Model& model);
 
 // After forwardKinematics: the contact's world frame.
 void contactFrame(const Model& model, const Data& data, const ContactPoint& contact, ContactFrame& out);

@@ -180,7 +180,7 @@ SimulationState initialState(const System& system, const IntegratorOptions& opti
 }
 
 StepWorkspace::StepWorkspace(const System& system, const IntegratorOptions& options)
-    : solver((validateSystem(system, options), system), options) {
+    : solver((validateSystem(system, options), system)) {
   const int n = system.model->nq;
   contact_wrench.assign(system.contacts.size(), Vec6::Zero());
   impulse.assign(system.contacts.size(), Vec6::Zero());

@@ -50,16 +50,14 @@ void StepResidual::prepare(const System& system, Form form, double h, const Eige
   target_.velocity = target.velocity;
   data.base_chart = base_chart;
   pdPotentialHessianDiagonal(system.gains, h, pd_hessian_);
-  data_prev_.base_chart = base_chart;
-  if (kinetic_energy == KineticEnergyMeasure::ContactPoints && form == Form::PositionBased) {
-    forwardKinematics(model, data_prev_, q_n);
-    for (size_t c = 0; c < system.contacts.size(); ++c)
-      contact_points_n_[c] = linkPoint(model, data_prev_, system.contacts[c].link, system.contacts[c].offset);
-  }
   if (form != Form::PositionBased) return;
   const double alpha = h / h_prev;
+  data_prev_.base_chart = base_chart;
   forwardKinematics(model, data_prev_, q_n);
   bodyTransforms(model, data_prev_, transforms_n_);
+  if (kinetic_energy == KineticEnergyMeasure::ContactPoints)  // PBD's u_c needs p_c(q_n)
+    for (size_t c = 0; c < system.contacts.size(); ++c)
+      contact_points_n_[c] = linkPoint(model, data_prev_, system.contacts[c].link, system.contacts[c].offset);
   forwardKinematics(model, data_prev_, q_prev);
   bodyTransforms(model, data_prev_, transforms_prev_);
   inertialTargets(transforms_n_, transforms_prev_, alpha, inertial_targets_);

@@ -46,9 +46,8 @@ bool StepSolver::solveQp(double beta) {
   return true;
 }
 
-StepSolver::StepSolver(const System& system, const IntegratorOptions& options)
+StepSolver::StepSolver(const System& system)
     : residual_(system), lu_(system.model->nq, system.model->nq), llt_(system.model->nq) {
-  (void)options;
   const Model& model = *system.model;
   const int n = model.nq;
   const int C = static_cast<int>(system.contacts.size());

@@ -40,7 +40,7 @@ struct StepAttempt {
 
 class StepSolver {
  public:
-  StepSolver(const System& system, const IntegratorOptions& options);
+  explicit StepSolver(const System& system);
 
   // Tries one step of size h from `state` with the PD target at state.time + h; w_start is the
   // initial weight vector (feasible; zeros for a cold start). `beta` is read and updated.
