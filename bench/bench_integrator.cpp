@@ -44,6 +44,13 @@ double percentile(std::vector<double> v, double p) {
 struct Configuration {
   Method method;
   KineticEnergyMeasure kinetic_energy;
+  ZerothOrderJacobian zeroth_order = ZerothOrderJacobian::FiniteDifference;
+  int repeats = 0;  // 0: --repeats
+  std::string name() const {
+    std::string n = methodName(method);
+    if (isZeroOrder(method)) n += std::string(" (") + zerothOrderJacobianName(zeroth_order) + ")";
+    return n;
+  }
 };
 
 RunResult run(const Model& model, const Configuration& configuration, double dt, double duration) {
@@ -58,6 +65,7 @@ RunResult run(const Model& model, const Configuration& configuration, double dt,
   IntegratorOptions options;
   options.method = configuration.method;
   options.kinetic_energy = configuration.kinetic_energy;
+  options.zeroth_order_jacobian = configuration.zeroth_order;
   const KeyframePdTarget trot = makeTrotTarget(model);
   const StandingPose pose = standingPose(model, identifyQuadrupedLegs(model), {});
   StepWorkspace ws(system, options);
@@ -101,16 +109,27 @@ int main(int argc, char** argv) {
   const Model model = loadUrdf(std::string(NMDP_SOURCE_DIR) + "/models/quadruped/quadruped.urdf", {});
   const StandingPose pose = standingPose(model, identifyQuadrupedLegs(model), {});
   const KineticEnergyMeasure body = KineticEnergyMeasure::FullBody, points = KineticEnergyMeasure::ContactPoints;
-  const std::vector<Configuration> methods = {{Method::NePgm, body},     {Method::NeZopgm, body},
-                                              {Method::PbdPgm, body},    {Method::PbdZopgm, body},
-                                              {Method::NeMdp, body},     {Method::NePgm, points},
-                                              {Method::PbdPgm, points}};
+  const ZerothOrderJacobian dropped = ZerothOrderJacobian::Dropped;
+  // The paper's zeroth-order Jacobian takes minutes per run: once each.
+  const std::vector<Configuration> methods = {{Method::NePgm, body},
+                                              {Method::NeZopgm, body},
+                                              {Method::PbdPgm, body},
+                                              {Method::PbdZopgm, body},
+                                              {Method::NeMdp, body},
+                                              {Method::NePgm, points},
+                                              {Method::NeZopgm, points},
+                                              {Method::PbdPgm, points},
+                                              {Method::PbdZopgm, points},
+                                              {Method::NeZopgm, body, dropped, 1},
+                                              {Method::PbdZopgm, body, dropped, 1}};
   std::vector<std::vector<RunResult>> results(methods.size());
   for (int rep = 0; rep < repeats; ++rep)
-    for (size_t m = 0; m < methods.size(); ++m) results[m].push_back(run(model, methods[m], dt, duration));
+    for (size_t m = 0; m < methods.size(); ++m)
+      if (methods[m].repeats == 0 || rep < methods[m].repeats)
+        results[m].push_back(run(model, methods[m], dt, duration));
 
   std::printf("Quadruped (%s, %d DOF, %.2f kg) trotting on flat ground, Coulomb contact, dt = %g s, %g s simulated, "
-              "%d interleaved runs per method; standing torso height %.3f m.\n\n",
+              "%d interleaved runs per method (the dropped-Jacobian rows: one); standing torso height %.3f m.\n\n",
               model.robot_name.c_str(), model.nq, model.total_mass, dt, duration, repeats, pose.height);
   std::printf("| method | K | median wall / step | range of run medians | p90 wall / step | outer it. / step | "
               "sub-steps / step | smallest sub-step | failed steps | allocations in steps | forward | torso height |\n");
@@ -136,7 +155,7 @@ int main(int argc, char** argv) {
     else
       std::snprintf(where, sizeof where, "%.2f m | %.3f–%.3f m", last.forward, last.z_min, last.z_max);
     std::printf("| %s | %s | %.3f ms | %.3f–%.3f ms | %.3f ms | %.2f | %.2f | %.2g s | %ld | %ld | %s |\n",
-                methodName(methods[m].method), kineticEnergyName(methods[m].kinetic_energy), 1e3 * percentile(all, 0.5),
+                methods[m].name().c_str(), kineticEnergyName(methods[m].kinetic_energy), 1e3 * percentile(all, 0.5),
                 1e3 * *std::min_element(medians.begin(), medians.end()),
                 1e3 * *std::max_element(medians.begin(), medians.end()), 1e3 * percentile(all, 0.9),
                 double(outer) / steps, double(substeps) / steps, min_substep, failed, allocations, where);

@@ -1,6 +1,7 @@
 // The integrator as a whole (advance(), StepSolver): independent methods agree, errors are clear,
 // runs are reproducible and stepping allocates nothing.
-//  * PGM and ZOPGM reach the same step solution (NE and PBD form) where it is unique;
+//  * PGM and ZOPGM reach the same step solution (NE and PBD form) on random contact states, and the
+//    paper's zeroth-order variant where the solution is pinned;
 //  * NE and PBD trajectories converge to each other as dt → 0 (first order);
 //  * a first-order method with a derivative-less contact model is refused, naming the zeroth-order
 //    twin; the twin runs and never asks the model for a derivative;
@@ -11,6 +12,10 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <random>
+#include <string>
+#include <utility>
+#include <vector>
 #include <stdexcept>
 
 #include "contact_models/coulomb_model.hpp"
@@ -92,21 +97,17 @@ IntegratorOptions optionsFor(const char* name) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// PGM vs ZOPGM: one step from contact states whose maximal-dissipation step is unique.
+// PGM vs ZOPGM: one step from the same state, first order against zeroth order.
 //
-// Both minimise the same K over the same set {θ : G(θ, w) = 0, w feasible}, but ZOPGM searches with
-// ∂Ḡ/∂θ, which lacks the contact stiffness J_cᵀ(∂V_c/∂θ)w_c: its QP stops where the projected
-// *inexact* gradient D̄ᵀ∇K vanishes, which is the true minimiser only when the optimum is pinned by
-// the constraints or is K's unconstrained minimum. (From a generic state with an interior optimum
-// the two stop at different points, by an amount set by the missing stiffness; the paper's
-// convergence theorem is about decrease, not about the limit.) So the comparison uses states whose
-// optimum is pinned, K's unconstrained minimum (K = 0, the body held at rest):
-//  * a box at its resting depth, at rest;
-//  * the quadruped standing at rest on its four feet.
-// A sliding box is not such a state with a compliant contact: sinking deeper buys friction at the
-// price of vertical motion, an interior trade-off, and there the zeroth-order step lands 5e-4 m
-// from the first-order one (measured; docs/INTEGRATOR.md). Its first-order step is checked against
-// Coulomb's law instead.
+// The zeroth-order methods take dV/dξ from central differences of V (ZerothOrderJacobian::
+// FiniteDifference, the default), so they search with the first-order direction to the
+// differences' accuracy and must stop at the same step: checked on random contact states (boxes
+// sliding and tumbling into the ground, the quadruped with random joint and base velocities).
+// The paper's zeroth-order Jacobian (ZerothOrderJacobian::Dropped) lacks the contact stiffness
+// J_cᵀ(∂V_c/∂θ)w_c: its QP stops where the projected *inexact* gradient vanishes, which is the true
+// minimiser only when the optimum is pinned (K's unconstrained minimum K = 0, a body held at rest);
+// it is compared on such states only. (A box sliding at 1 m/s ends its dropped-term step 5e-4 m
+// from the first-order one; docs/INTEGRATOR.md.)
 // The stopping rule bounds the distance to the optimum: with ε = tol_w = 1e-10 and K's curvature
 // at least m/h² in θ, ‖θ − θ*‖ ≲ √(2ε h²/m) ≈ 1.4e-7 for the 1 kg box at 10 ms; we allow 1e-6.
 struct BoxOnGround {
@@ -134,7 +135,8 @@ struct BoxOnGround {
   }
 };
 
-void expectSameStep(const System& system, const Vec& q, const Vec& qd, double dt, const char* what) {
+void expectSameStep(const System& system, const Vec& q, const Vec& qd, double dt, const std::string& what,
+                    ZerothOrderJacobian zeroth_order = ZerothOrderJacobian::FiniteDifference) {
   const ConstantPdTarget target(q);
   for (const auto& [first, zeroth] : {std::pair{"ne-pgm", "ne-zopgm"}, std::pair{"pbd-pgm", "pbd-zopgm"}}) {
     Vec theta[2];
@@ -142,6 +144,7 @@ void expectSameStep(const System& system, const Vec& q, const Vec& qd, double dt
       IntegratorOptions options = optionsFor(k == 0 ? first : zeroth);
       options.epsilon = 1e-10;
       options.tol_w = 1e-10;
+      options.zeroth_order_jacobian = zeroth_order;
       StepWorkspace ws(system, options);
       SimulationState state = initialState(system, options, q, qd, dt);
       const StepStats st = advance(system, options, target, state, dt, ws);
@@ -149,16 +152,42 @@ void expectSameStep(const System& system, const Vec& q, const Vec& qd, double dt
       theta[k] = state.q;
     }
     const double dtheta = (theta[0] - theta[1]).lpNorm<Eigen::Infinity>();
-    std::printf("  %-28s %-9s vs %-9s |θ_pgm − θ_zopgm|∞ %.2e\n", what, first, zeroth, dtheta);
+    std::printf("  %-36s %-9s vs %-9s (%s) |θ_pgm − θ_zopgm|∞ %.2e\n", what.c_str(), first, zeroth,
+                zerothOrderJacobianName(zeroth_order), dtheta);
     EXPECT_LT(dtheta, 1e-6) << what << ": " << first << " vs " << zeroth;
   }
 }
 
-TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStep) {
+TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStepOnRandomContactStates) {
+  BoxOnGround box;
+  Quadruped robot;
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  for (int trial = 0; trial < 6; ++trial) {
+    // A box 0-3 mm below its resting depth, tilted up to 0.1 rad, sliding at up to 1 m/s, sinking or
+    // rising at up to 0.3 m/s and turning at up to 2 rad/s.
+    Vec q = Vec::Zero(6), qd = Vec::Zero(6);
+    q[2] = box.restingHeight() - 1.5e-3 * (1 + unit(rng));
+    q[3] = 0.1 * unit(rng);
+    q[4] = 0.1 * unit(rng);
+    qd << unit(rng), unit(rng), 0.3 * unit(rng), 2 * unit(rng), 2 * unit(rng), 2 * unit(rng);
+    expectSameStep(box.system, q, qd, 0.01, "random box " + std::to_string(trial));
+  }
+  for (int trial = 0; trial < 3; ++trial) {
+    // The quadruped 2-5 mm deep, its base moving at up to 0.5 m/s and its joints at up to 2 rad/s.
+    const Vec q = robot.standing(3.5e-3 + 1.5e-3 * unit(rng));
+    Vec qd = Vec::Zero(robot.model.nq);
+    for (int j = 0; j < 3; ++j) qd[j] = 0.5 * unit(rng);
+    for (int j = 6; j < robot.model.nq; ++j) qd[j] = 2 * unit(rng);
+    expectSameStep(robot.system, q, qd, 0.01, "random quadruped " + std::to_string(trial));
+  }
+}
+
+TEST(IntegratorConsistency, PaperZerothOrderReachesTheSameStepWhereItIsPinned) {
   BoxOnGround box;
   Vec q = Vec::Zero(6), qd = Vec::Zero(6);
   q[2] = box.restingHeight();
-  expectSameStep(box.system, q, qd, 0.01, "box at rest");
+  expectSameStep(box.system, q, qd, 0.01, "box at rest", ZerothOrderJacobian::Dropped);
   // Sliding at 1 m/s, the first-order step takes μ g h off the speed (friction saturated), not all.
   qd[0] = 1.0;
   IntegratorOptions options = optionsFor("ne-pgm");
@@ -169,7 +198,8 @@ TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStep) {
   EXPECT_NEAR(state.qd[0], 1.0 - 0.7 * 9.81 * 0.01, 1e-3);
 
   Quadruped robot;
-  expectSameStep(robot.system, robot.standing(0.0035), Vec::Zero(robot.model.nq), 0.01, "quadruped standing");
+  expectSameStep(robot.system, robot.standing(0.0035), Vec::Zero(robot.model.nq), 0.01, "quadruped standing",
+                 ZerothOrderJacobian::Dropped);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -329,14 +359,19 @@ TEST(IntegratorConsistency, SameRunTwiceIsBitIdentical) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// No heap allocation inside advance() once warmed up, for every method, on the standing quadruped.
+// No heap allocation inside advance() once warmed up, for every method (the zeroth-order ones with
+// both Jacobians), on the standing quadruped.
 TEST(IntegratorConsistency, AdvanceAllocatesNothingAfterWarmUp) {
   Quadruped robot;
   const Vec q0 = robot.standing(0.002);
   const SwingTarget target(robot.standing(), 0.05, 6.0);
-  for (const char* name : kAllMethods) {
-    SCOPED_TRACE(name);
-    const IntegratorOptions options = optionsFor(name);
+  std::vector<std::pair<const char*, ZerothOrderJacobian>> runs;
+  for (const char* name : kAllMethods) runs.emplace_back(name, ZerothOrderJacobian::FiniteDifference);
+  for (const char* name : {"ne-zopgm", "pbd-zopgm"}) runs.emplace_back(name, ZerothOrderJacobian::Dropped);
+  for (const auto& [name, zeroth_order] : runs) {
+    SCOPED_TRACE(std::string(name) + " " + zerothOrderJacobianName(zeroth_order));
+    IntegratorOptions options = optionsFor(name);
+    options.zeroth_order_jacobian = zeroth_order;
     const double dt = options.method == Method::NeMdp ? 1e-3 : 0.02;
     StepWorkspace ws(robot.system, options);
     SimulationState state = initialState(robot.system, options, q0, Vec::Zero(q0.size()), dt);

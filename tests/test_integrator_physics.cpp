@@ -30,6 +30,15 @@ namespace {
 constexpr double kG = 9.81;
 const char* const kAllMethods[] = {"ne-pgm", "ne-zopgm", "pbd-pgm", "pbd-zopgm", "ne-mdp"};
 const char* const kNmdpMethods[] = {"ne-pgm", "ne-zopgm", "pbd-pgm", "pbd-zopgm"};
+// The zeroth-order methods with the paper's Jacobian (ZerothOrderJacobian::Dropped).
+const char* const kPaperZerothOrder[] = {"ne-zopgm:dropped", "pbd-zopgm:dropped"};
+
+// The method of a test name: a scene method name, optionally with ":dropped".
+void setMethod(IntegratorOptions& options, const std::string& name) {
+  const size_t colon = name.find(':');
+  options.method = *parseMethod(name.substr(0, colon));
+  if (colon != std::string::npos) options.zeroth_order_jacobian = *parseZerothOrderJacobian(name.substr(colon + 1));
+}
 
 std::string boxUrdf() { return test::sourcePath("tests/data/box.urdf"); }
 std::string pendulumUrdf() { return test::sourcePath("tests/data/pendulum.urdf"); }
@@ -135,7 +144,7 @@ TEST(FreeFall, NoContactsMatchesClosedFormBackwardEulerEveryMethod) {
     for (double dt : {0.005, 0.01, 0.05}) {
       SCOPED_TRACE(std::string(name) + " dt " + std::to_string(dt));
       IntegratorOptions options;
-      options.method = *parseMethod(name);
+      setMethod(options, name);
       Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6), qd0 = Eigen::VectorXd::Zero(6);
       // Start near 1 m: the velocity (θ − q_n)/h carries round-off ulp(‖p‖)/h, 2e-13 m/s at 1 m and 1 ms.
       q0.head<3>() = Vec3(0.1, -0.2, 1.0);
@@ -186,7 +195,7 @@ TEST(FreeFall, DroppedBoxMatchesClosedFormUpToImpactAcrossSplitSteps) {
   for (const char* name : {"ne-pgm", "pbd-pgm"}) {
     SCOPED_TRACE(name);
     IntegratorOptions options;
-    options.method = *parseMethod(name);
+    setMethod(options, name);
     // The impact step must be split for this test to mean something. The default options absorb
     // it in one step, so the outer iterations are capped: the impact step then fails at dt and
     // Algorithm 2 splits it (free-flight steps converge in one or two iterations).
@@ -247,7 +256,7 @@ TEST(FreeFall, TumblingBoxCentreOfMassFollowsClosedForm) {
     for (double dt : {0.01, 0.05}) {
       SCOPED_TRACE(std::string(name) + " dt " + std::to_string(dt));
       IntegratorOptions options;
-      options.method = *parseMethod(name);
+      setMethod(options, name);
       Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6), qd0(6);
       q0.head<3>() = Vec3(0.0, 0.0, 5.0);
       qd0 << 0.5, 0.2, 3.0, 3.0, -4.0, 5.0;  // translation rates; roll/pitch/yaw rates (rad/s)
@@ -339,7 +348,7 @@ TEST(Pendulum, ConvergesAtFirstOrderToExactSolution) {
   for (const char* name : kAllMethods) {
     SCOPED_TRACE(name);
     IntegratorOptions options;
-    options.method = *parseMethod(name);
+    setMethod(options, name);
     std::vector<double> errors;
     for (double dt : {0.02, 0.01, 0.005}) {
       Eigen::VectorXd q0(1), qd0 = Eigen::VectorXd::Zero(1);
@@ -374,7 +383,7 @@ TEST(Pendulum, EnergyNeverIncreasesWithImplicitMethods) {
   for (const char* name : {"ne-pgm", "pbd-pgm"}) {
     SCOPED_TRACE(name);
     IntegratorOptions options;
-    options.method = *parseMethod(name);
+    setMethod(options, name);
     Eigen::VectorXd q0(1), qd0 = Eigen::VectorXd::Zero(1);
     q0[0] = theta0;
     StepWorkspace ws(p.system, options);
@@ -415,6 +424,8 @@ TEST(BoxAtRest, SupportForceEqualsWeightAndNoDrift) {
   std::vector<Case> cases;
   for (const char* m : kNmdpMethods)
     for (double dt : {0.001, 0.01, 0.05}) cases.push_back({m, dt});
+  for (const char* m : kPaperZerothOrder)
+    for (double dt : {0.001, 0.01, 0.05}) cases.push_back({m, dt});
   cases.push_back({"ne-mdp", 0.001});
   const double settle = 1.0, duration = 10.0;
   for (const Case& c : cases) {
@@ -423,7 +434,7 @@ TEST(BoxAtRest, SupportForceEqualsWeightAndNoDrift) {
     Box box(true);
     const double weight = box.mass() * kG;
     IntegratorOptions options;
-    options.method = *parseMethod(c.method);
+    setMethod(options, c.method);
     Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6);
     q0[2] = box.restingHeight() + 0.001;  // 1 mm above its resting depth (still 0.35 mm in the ground)
     StepWorkspace ws(box.system, options);
@@ -471,7 +482,7 @@ PushResult push(const char* method, double force_over_mu_mg, double dt) {
   Box box(true);
   const double mu = box.contact_model.parameters().mu, mass = box.mass();
   IntegratorOptions options;
-  options.method = *parseMethod(method);
+  setMethod(options, method);
   Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6);
   q0[2] = box.restingHeight();
   box.system.external_force = Eigen::VectorXd::Zero(6);
@@ -534,13 +545,15 @@ TEST(PushedBlock, SticksBelowFrictionLimitAndSlidesAboveFirstOrder) {
 }
 
 TEST(PushedBlock, SlidesAboveFrictionLimitZeroOrder) {
-  for (const char* name : {"ne-zopgm", "pbd-zopgm"}) checkPush(name, {}, {1.5, 2.0});
+  for (const char* name : {"ne-zopgm", "pbd-zopgm", "ne-zopgm:dropped", "pbd-zopgm:dropped"})
+    checkPush(name, {}, {1.5, 2.0});
 }
 
-// The zeroth-order methods stick too. (They used to stop on a small move while far from the
-// sticking solution and slid up to 1 m in 1 s at 0.9 μmg; see step_solver.cpp.)
+// The zeroth-order methods stick too. (With the paper's Jacobian they used to stop on a small move
+// while far from the sticking solution and slid up to 1 m in 1 s at 0.9 μmg; see step_solver.cpp.)
 TEST(PushedBlock, SticksBelowFrictionLimitZeroOrder) {
-  for (const char* name : {"ne-zopgm", "pbd-zopgm"}) checkPush(name, {0.5, 0.9}, {});
+  for (const char* name : {"ne-zopgm", "pbd-zopgm", "ne-zopgm:dropped", "pbd-zopgm:dropped"})
+    checkPush(name, {0.5, 0.9}, {});
 }
 
 }  // namespace

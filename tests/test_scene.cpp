@@ -88,7 +88,7 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
   for (const char* key : {"method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta",
                           "beta_min", "beta_max", "max_outer_iterations", "projection_tolerance",
                           "projection_max_iterations", "projection_backtracking", "warm_start_weights",
-                          "predict_first_iterate", "zeroth_order_secant"})
+                          "predict_first_iterate", "zeroth_order_jacobian"})
     EXPECT_TRUE(r.at("integrator").contains(key)) << key;
   EXPECT_EQ(r.at("integrator").at("method"), "ne-pgm");
   EXPECT_EQ(r.at("controller").at("gait").at("period"), 0.5);

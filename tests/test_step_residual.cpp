@@ -203,7 +203,7 @@ class StepResidualTest : public ::testing::TestWithParam<Case> {
     const double eps = 1e-6;
 
     // The contact forces are nonzero and penetration-dependent (d^p term active).
-    r.evaluate(s.system, d.theta, d.w, true);
+    r.evaluate(s.system, d.theta, d.w, ContactDerivative::Model);
     int active = 0;
     for (size_t c = 0; c < s.system.contacts.size(); ++c) {
       const Vec6 f = r.wrenches[c].V * d.w.segment(c * s.contact_model.vertexCount(), s.contact_model.vertexCount());
@@ -226,13 +226,18 @@ class StepResidualTest : public ::testing::TestWithParam<Case> {
     const Mat B0 = r.B;
     std::vector<Mat6X> V0(s.system.contacts.size());
     for (size_t c = 0; c < V0.size(); ++c) V0[c] = r.wrenches[c].V;
-    r.evaluate(s.system, d.theta, d.w, false);
+    r.evaluate(s.system, d.theta, d.w, ContactDerivative::Dropped);
     const Mat dG_zero = r.dG_dtheta;
-    EXPECT_EQ((r.G - G0).cwiseAbs().maxCoeff(), 0.0) << "G must not depend on first_order";
-    EXPECT_EQ((r.B - B0).cwiseAbs().maxCoeff(), 0.0) << "B must not depend on first_order";
+    EXPECT_EQ((r.G - G0).cwiseAbs().maxCoeff(), 0.0) << "G must not depend on the contact derivative";
+    EXPECT_EQ((r.B - B0).cwiseAbs().maxCoeff(), 0.0) << "B must not depend on the contact derivative";
+    // Zeroth order by central differences of V: the first-order Jacobian without the model's dV/dξ.
+    r.evaluate(s.system, d.theta, d.w, ContactDerivative::FiniteDifference);
+    EXPECT_EQ((r.G - G0).cwiseAbs().maxCoeff(), 0.0);
+    const double e_finite_difference = relativeError(r.dG_dtheta, dG_first);
+    EXPECT_LT(e_finite_difference, 1e-6) << "finite-difference ∂G/∂θ against the exact one";
 
     // --- value of G: G(θ, w) = G(θ, 0) − B w, and G(θ, 0) independently.
-    fd.evaluate(s.system, d.theta, Vec::Zero(d.w.size()), false);
+    fd.evaluate(s.system, d.theta, Vec::Zero(d.w.size()), ContactDerivative::Dropped);
     const Vec G_free = fd.G;
     EXPECT_LT(relativeError(G0, G_free - B0 * d.w), 1e-12);
     // B's columns are J_cᵀ V_c.
@@ -284,7 +289,7 @@ class StepResidualTest : public ::testing::TestWithParam<Case> {
 
     // --- first order: exact θ-Jacobian.
     auto G_of = [&](const Vec& th) {
-      fd.evaluate(s.system, th, d.w, false);
+      fd.evaluate(s.system, th, d.w, ContactDerivative::Dropped);
       return Vec(fd.G);
     };
     const Mat dG_fd = centralDifference(G_of, d.theta, eps);
@@ -292,7 +297,7 @@ class StepResidualTest : public ::testing::TestWithParam<Case> {
 
     // --- zeroth order: vertices frozen at θ₀.
     auto G_frozen = [&](const Vec& th) {
-      fd.evaluate(s.system, th, Vec::Zero(d.w.size()), false);
+      fd.evaluate(s.system, th, Vec::Zero(d.w.size()), ContactDerivative::Dropped);
       Vec g = fd.G;
       const int K = s.contact_model.vertexCount();
       for (size_t c = 0; c < V0.size(); ++c) g -= fd.jacobians[c].transpose() * (V0[c] * d.w.segment(c * K, K));
@@ -310,12 +315,13 @@ class StepResidualTest : public ::testing::TestWithParam<Case> {
 
     // --- B = −∂G/∂w, exact in w (G is affine in w).
     auto G_w = [&](const Vec& w) {
-      fd.evaluate(s.system, d.theta, w, false);
+      fd.evaluate(s.system, d.theta, w, ContactDerivative::Dropped);
       return Vec(fd.G);
     };
     const double e_B = relativeError(-centralDifference(G_w, d.w, 0.1), B0);
 
-    std::printf("  %s tilt %.2f depths [%s] |dG| %.2e: first %.2e zeroth %.2e dropped(|.|=%.2e) %.2e B %.2e\n",
+    std::printf("  %s tilt %.2f depths [%s] |dG| %.2e: first %.2e zeroth %.2e dropped(|.|=%.2e) %.2e B %.2e"
+                " finite-difference vs exact %.2e\n",
                 form == Form::NewtonEuler ? "NE" : "PBD", tilt,
                 [&] {
                   static char buf[256];
@@ -323,19 +329,19 @@ class StepResidualTest : public ::testing::TestWithParam<Case> {
                   for (int c = 0; c < depths.size(); ++c) k += std::snprintf(buf + k, sizeof buf - k, "%.1fmm ", 1e3 * depths[c]);
                   return buf;
                 }(),
-                dG_fd.cwiseAbs().maxCoeff(), e_first, e_zero, dropped_scale, e_dropped, e_B);
+                dG_fd.cwiseAbs().maxCoeff(), e_first, e_zero, dropped_scale, e_dropped, e_B, e_finite_difference);
     EXPECT_LT(e_first, 1e-6);
     EXPECT_LT(e_zero, 1e-6);
     EXPECT_LT(e_dropped, 1e-5);
     EXPECT_LT(e_B, 1e-10);
 
     // --- K and its derivatives.
-    r.evaluate(s.system, d.theta, d.w, true);
+    r.evaluate(s.system, d.theta, d.w, ContactDerivative::Model);
     const double K0 = r.K;
     const Vec gradK = r.grad_K;
     const Mat hessK = r.hess_K;
     auto K_of = [&](const Vec& th) {
-      fd.evaluate(s.system, th, d.w, false);
+      fd.evaluate(s.system, th, d.w, ContactDerivative::Dropped);
       Vec out(1);
       out[0] = fd.K;
       return out;
@@ -367,7 +373,7 @@ class StepResidualTest : public ::testing::TestWithParam<Case> {
       EXPECT_LT(e, 1e-6);
     } else {
       auto gradK_of = [&](const Vec& th) {
-        fd.evaluate(s.system, th, d.w, false);
+        fd.evaluate(s.system, th, d.w, ContactDerivative::Dropped);
         return Vec(fd.grad_K);
       };
       const Mat hessK_fd = centralDifference(gradK_of, d.theta, eps);
@@ -410,8 +416,8 @@ TEST_P(StepResidualTest, PositionBasedApproachesNewtonEuler) {
     const Vec q_prev = q_n - h * qd_n;
     ne.prepare(s.system, Form::NewtonEuler, h, q_n, qd_n, q_prev, h, target, s.chart);
     pbd.prepare(s.system, Form::PositionBased, h, q_n, qd_n, q_prev, h, target, s.chart);
-    ne.evaluate(s.system, theta0, w, false);
-    pbd.evaluate(s.system, theta0, w, false);
+    ne.evaluate(s.system, theta0, w, ContactDerivative::Dropped);
+    pbd.evaluate(s.system, theta0, w, ContactDerivative::Dropped);
     scale = ne.G.cwiseAbs().maxCoeff();
     diffs.push_back((ne.G - pbd.G).cwiseAbs().maxCoeff());
     std::printf("  h %.0e: |G_ne| %.3e |G_ne − G_pbd| %.3e\n", h, scale, diffs.back());
@@ -440,7 +446,7 @@ TEST_P(StepResidualTest, ContactPointKineticEnergy) {
     StepResidual r(s.system), fd(s.system);
     r.prepare(s.system, form, h, q_n, qd_n, q_n - h * qd_n, h, target, s.chart, KineticEnergyMeasure::ContactPoints);
     fd.prepare(s.system, form, h, q_n, qd_n, q_n - h * qd_n, h, target, s.chart, KineticEnergyMeasure::ContactPoints);
-    r.evaluate(s.system, theta, w, false);
+    r.evaluate(s.system, theta, w, ContactDerivative::Dropped);
     // K from the contact points' own positions and Jacobians.
     double K = 0;
     std::vector<Eigen::Matrix<double, 3, Eigen::Dynamic>> J0;
@@ -459,7 +465,7 @@ TEST_P(StepResidualTest, ContactPointKineticEnergy) {
     }
     EXPECT_NEAR(r.K, K, 1e-12 * std::max(1.0, K));
     const Vec gradK_fd = centralDifference([&](const Vec& th) {
-      fd.evaluate(s.system, th, w, false);
+      fd.evaluate(s.system, th, w, ContactDerivative::Dropped);
       return Vec::Constant(1, fd.K);
     }, theta, eps).transpose();
     const double e_grad = relativeError(r.grad_K, gradK_fd);

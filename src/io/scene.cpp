@@ -199,7 +199,7 @@ const std::vector<std::string> kPointKeys = {"link", "offset", "radius", "name"}
 const std::vector<std::string> kIntegratorKeys = {
     "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "beta_min", "beta_max",
     "beta_initial", "max_outer_iterations", "projection_tolerance", "projection_max_iterations",
-    "projection_backtracking", "warm_start_weights", "predict_first_iterate", "zeroth_order_secant"};
+    "projection_backtracking", "warm_start_weights", "predict_first_iterate", "zeroth_order_jacobian"};
 const std::vector<std::string> kControllerKeys = {"kp", "kd", "tau_ff", "gait"};
 const std::vector<std::string> kOutputKeys = {"file", "every"};
 const std::vector<std::string> kGaitTypes = {"stand", "trot", "jump", "keyframes"};
@@ -378,7 +378,10 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   o.projection_backtracking = integer(in, "projection_backtracking", o.projection_backtracking, w, 0, 60);
   o.warm_start_weights = boolean(in, "warm_start_weights", o.warm_start_weights, w);
   o.predict_first_iterate = boolean(in, "predict_first_iterate", o.predict_first_iterate, w);
-  o.zeroth_order_secant = boolean(in, "zeroth_order_secant", o.zeroth_order_secant, w);
+  const std::string zo = readStr(in, "zeroth_order_jacobian", zerothOrderJacobianName(o.zeroth_order_jacobian), w);
+  const std::optional<ZerothOrderJacobian> z = parseZerothOrderJacobian(zo);
+  if (!z) (w / "zeroth_order_jacobian").fail("unknown value '" + zo + "'; valid: finite-difference, dropped");
+  o.zeroth_order_jacobian = *z;
 
   out = {{"method", methodName(o.method)},
          {"kinetic_energy", kineticEnergyName(o.kinetic_energy)},
@@ -398,7 +401,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
          {"projection_backtracking", o.projection_backtracking},
          {"warm_start_weights", o.warm_start_weights},
          {"predict_first_iterate", o.predict_first_iterate},
-         {"zeroth_order_secant", o.zeroth_order_secant}};
+         {"zeroth_order_jacobian", zerothOrderJacobianName(o.zeroth_order_jacobian)}};
 }
 
 void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {

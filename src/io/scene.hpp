@@ -33,7 +33,8 @@
 //                  fields of the same names: epsilon, tol_w, eta, eta_reject, beta_min, beta_max,
 //                  beta_initial, max_outer_iterations, projection_tolerance,
 //                  projection_max_iterations, projection_backtracking, warm_start_weights,
-//                  predict_first_iterate, zeroth_order_secant}
+//                  predict_first_iterate, and "zeroth_order_jacobian":
+//                  "finite-difference" | "dropped" (finite-difference)}
 //   "controller": {"kp": number | {joint: value}, "kd": same  (defaultPdGains: scaled to the
 //                  robot's mass; a number sets every actuated joint, an object the joints named),
 //                  "tau_ff": {joint: value},

@@ -128,6 +128,16 @@ std::optional<KineticEnergyMeasure> parseKineticEnergy(const std::string& name) 
   return std::nullopt;
 }
 
+const char* zerothOrderJacobianName(ZerothOrderJacobian z) {
+  return z == ZerothOrderJacobian::FiniteDifference ? "finite-difference" : "dropped";
+}
+
+std::optional<ZerothOrderJacobian> parseZerothOrderJacobian(const std::string& name) {
+  if (name == "finite-difference") return ZerothOrderJacobian::FiniteDifference;
+  if (name == "dropped") return ZerothOrderJacobian::Dropped;
+  return std::nullopt;
+}
+
 const char* toString(StepStatus status) {
   switch (status) {
     case StepStatus::Converged: return "converged";

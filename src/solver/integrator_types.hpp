@@ -32,6 +32,20 @@ enum class KineticEnergyMeasure { FullBody, ContactPoints };
 const char* kineticEnergyName(KineticEnergyMeasure k);  // "full-body", "contact-points"
 std::optional<KineticEnergyMeasure> parseKineticEnergy(const std::string& name);
 
+// How the zeroth-order methods account for the change of the vertices with the pose, the term
+// Σ_c J_cᵀ (∂V_c/∂θ) w_c of ∂G/∂θ, without asking the model for a derivative:
+//  - FiniteDifference: dV/dξ by central differences of V (12 extra evaluations per contact). The
+//    step then has the first-order method's exact direction and solution, to the differences' accuracy.
+//  - Dropped: the paper's ∂Ḡ/∂θ, the term left out. Its Newton steps and QP model lack the contact
+//    stiffness, so at large steps on stiff ground the step splits, and it stops where the projected
+//    inexact gradient vanishes, which is not in general the first-order solution.
+enum class ZerothOrderJacobian { FiniteDifference, Dropped };
+const char* zerothOrderJacobianName(ZerothOrderJacobian z);  // "finite-difference", "dropped"
+std::optional<ZerothOrderJacobian> parseZerothOrderJacobian(const std::string& name);
+
+// What the contact term of ∂G/∂θ is built from in one evaluation of the residual.
+enum class ContactDerivative { Model, FiniteDifference, Dropped };
+
 struct IntegratorOptions {
   Method method = Method::NePgm;
   KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBody;
@@ -56,12 +70,9 @@ struct IntegratorOptions {
   // projection diverged, a step that does not may be halved this many times (0: full steps only, as
   // the paper). Measured on the quadruped landing at dt = 50 ms: no splits with 10, splits without.
   int projection_backtracking = 10;
-  // Zeroth order, experimental: learn the contact stiffness that ∂Ḡ/∂θ lacks from the residuals of
-  // the Newton steps (a structured Broyden update S, kept from step to step) and use ∂Ḡ/∂θ + S in
-  // Newton and in the QP. Values of G only: the model's derivative is still never evaluated.
-  // Off by default: it halves the sub-steps of a landing but its rank-one updates couple the
-  // tangential and normal directions, and a resting box then creeps (2e-4 m over 10 s at 50 ms).
-  bool zeroth_order_secant = false;
+  // The zeroth-order methods' stand-in for the model's derivative (see ZerothOrderJacobian; their cost
+  // on the trot is in docs/INTEGRATOR.md).
+  ZerothOrderJacobian zeroth_order_jacobian = ZerothOrderJacobian::FiniteDifference;
   // Start Newton from θ = q_n + h q̇_n instead of q_n (DESIGN.md 3 allows a better predictor).
   bool predict_first_iterate = false;  // measured on the trot: 8 % fewer outer iterations, 7 % of steps split
   // Start each step from the previous step's contact weights instead of w = 0 (both are feasible).

@@ -5,7 +5,11 @@
 
 namespace nmdp {
 
-StepResidual::StepResidual(const System& system) : data(*system.model), data_prev_(*system.model) {
+StepResidual::StepResidual(const System& system)
+    : data(*system.model),
+      data_prev_(*system.model),
+      finite_difference_(static_cast<int>(system.contacts.size()),
+                         system.contact_model ? system.contact_model->vertexCount() : 0) {
   const Model& model = *system.model;
   n_ = model.nq;
   const int C = static_cast<int>(system.contacts.size());
@@ -21,7 +25,13 @@ StepResidual::StepResidual(const System& system) : data(*system.model), data_pre
   for (ContactWrenches& cw : wrenches) cw.resize(K_vertices_);
   jacobians.assign(C, Mat6X::Zero(6, n_));
   contact_points_n_.assign(C, Vec3::Zero());
-  for (const ContactPoint& cp : system.contacts) contact_bodies_.push_back(model.links[cp.link].body);
+  for (const ContactPoint& cp : system.contacts) {
+    const int body = model.links[cp.link].body;
+    contact_bodies_.push_back(body);
+    std::vector<int> chain;  // J_c's nonzero columns: the body and its ancestors
+    for (int j = body; j >= 0; j = model.bodies[j].parent) chain.push_back(j);
+    contact_chains_.push_back(std::move(chain));
+  }
   q_n_.setZero(n_);
   qd_n_.setZero(n_);
   target_.position.setZero(n_);
@@ -65,7 +75,7 @@ void StepResidual::prepare(const System& system, Form form, double h, const Eige
 }
 
 void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
-                            bool first_order) {
+                            ContactDerivative derivative) {
   const Model& model = *system.model;
   const double inv_h2 = 1.0 / (h_ * h_);
   if (form_ == Form::NewtonEuler) {
@@ -76,7 +86,7 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
     dG_dtheta.diagonal() += pd_hessian_;
     // data.qd_work = θ̇ and data.H = H(θ) after neInertialResidual.
     work_.noalias() = data.H * data.qd_work;
-    K = 0.5 * data.qd_work.dot(work_);
+    K = bodyKineticEnergy(model);  // the formula evaluateValue() uses: K compares across the two
     grad_K = work_ / h_;
     addKineticEnergyConfigurationGradient(model);
     hess_K = data.H * inv_h2;
@@ -102,8 +112,51 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
       hess_K(j, j) += a * inv_h2;
     }
   }
-  if (m_ > 0) addContacts(system, w, first_order);
-  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model);
+  if (m_ > 0) addContacts(system, w, derivative);
+  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, true);
+}
+
+void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w) {
+  const Model& model = *system.model;
+  const double inv_h2 = 1.0 / (h_ * h_);
+  if (form_ == Form::NewtonEuler) {
+    neInertialResidual(model, data, theta, q_n_, qd_n_, h_, G, nullptr);
+    pdTorque(system.gains, target_, theta, q_n_, h_, work_);
+    G -= work_;
+    if (system.external_force.size() != 0) G -= system.external_force;
+    K = bodyKineticEnergy(model);
+  } else {
+    forwardKinematics(model, data, theta);
+    transformEnergy(model, data, inertial_targets_, h_, &G, nullptr);
+    gravityPotential(model, data, &work_, nullptr);
+    G += work_;
+    pdPotentialGradient(system.gains, target_, theta, q_n_, h_, work_);
+    G += work_;
+    if (system.external_force.size() != 0) G -= system.external_force;
+    K = transformEnergy(model, data, transforms_n_, h_, nullptr, nullptr);
+    for (int j = 0; j < n_; ++j) {
+      const double a = model.bodies[j].armature;
+      if (a == 0.0) continue;
+      const double inertial = theta[j] - armature_target_[j], kinetic = theta[j] - q_n_[j];
+      G[j] += a * inertial * inv_h2;
+      K += 0.5 * a * kinetic * kinetic * inv_h2;
+    }
+  }
+  if (m_ > 0) {
+    frameGeometry(system);
+    system.contact_model->evaluate(frames, *system.terrain, wrenches, false);
+    addContactForces(system, w);
+  }
+  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, false);
+}
+
+double StepResidual::bodyKineticEnergy(const Model& model) const {
+  double T = 0.0;
+  for (int k = 0; k < model.nq; ++k) {
+    const double a = model.bodies[k].armature, qd = data.qd_work[k];
+    T += data.v[k].dot(data.Iw[k] * data.v[k]) + a * qd * qd;
+  }
+  return 0.5 * T;
 }
 
 void StepResidual::addKineticEnergyConfigurationGradient(const Model& model) {
@@ -117,22 +170,29 @@ void StepResidual::addKineticEnergyConfigurationGradient(const Model& model) {
   }
 }
 
-void StepResidual::contactPointEnergy(const Model& model) {
+void StepResidual::contactPointEnergy(const Model& model, bool derivatives) {
   // After addContacts: jacobians at θ; NE: data.v holds the bodies' world velocities at θ̇.
   K = 0.0;
-  grad_K.setZero();
-  hess_K.setZero();
+  if (derivatives) {
+    grad_K.setZero();
+    hess_K.setZero();
+  }
   const double inv_h = 1.0 / h_;
   for (size_t c = 0; c < jacobians.size(); ++c) {
     const auto J = jacobians[c].bottomRows<3>();
     Vec3 u;
-    if (form_ == Form::NewtonEuler)
-      u.noalias() = J * data.qd_work;
-    else
+    if (form_ == Form::NewtonEuler) {
+      u.setZero();
+      for (int j : contact_chains_[c]) u += J.col(j) * data.qd_work[j];
+    } else
       u = (frames[c].position - contact_points_n_[c]) * inv_h;
     K += 0.5 * u.squaredNorm();
-    grad_K.noalias() += J.transpose() * (u * inv_h);
-    hess_K.noalias() += (inv_h * inv_h * J.transpose()) * J;
+    if (!derivatives) continue;
+    const double inv_h2 = inv_h * inv_h;
+    for (int j : contact_chains_[c]) {
+      grad_K[j] += J.col(j).dot(u) * inv_h;
+      for (int l : contact_chains_[c]) hess_K(j, l) += inv_h2 * J.col(j).dot(J.col(l));
+    }
     if (form_ != Form::NewtonEuler || contact_bodies_[c] < 0) continue;
     // NE: u = J(θ) θ̇ also moves with θ at fixed θ̇. For q_l ⪯ body k the body's world velocity
     // changes by S_l × (v_k − v_λ(l)) and the point by J_l, so ∂u/∂q_l = b + a × p + ω_k × J_l.
@@ -151,39 +211,56 @@ void StepResidual::contactPointEnergy(const Model& model) {
 
 void StepResidual::evaluateContacts(const System& system, const Eigen::VectorXd& q) {
   forwardKinematics(*system.model, data, q);
-  if (m_ > 0) contactGeometry(system, false);
+  if (m_ > 0) contactGeometry(system, ContactDerivative::Dropped);
 }
 
-void StepResidual::contactGeometry(const System& system, bool with_derivatives) {
+void StepResidual::frameGeometry(const System& system) {
   const Model& model = *system.model;
-  const int C = static_cast<int>(system.contacts.size());
-  for (int c = 0; c < C; ++c) {
+  for (size_t c = 0; c < system.contacts.size(); ++c) {
     contactFrame(model, data, system.contacts[c], frames[c]);
     contactJacobian(model, data, system.contacts[c], jacobians[c]);
   }
-  system.contact_model->evaluate(frames, *system.terrain, wrenches, with_derivatives);
-  for (int c = 0; c < C; ++c)
-    B.middleCols(c * K_vertices_, K_vertices_).noalias() = jacobians[c].transpose() * wrenches[c].V;
 }
 
-void StepResidual::addContacts(const System& system, const Eigen::VectorXd& w, bool first_order) {
+void StepResidual::addContactForces(const System& system, const Eigen::VectorXd& w) {
+  for (size_t c = 0; c < system.contacts.size(); ++c) {
+    const Vec6 f = wrenches[c].V * w.segment(c * K_vertices_, K_vertices_);
+    for (int j : contact_chains_[c]) G[j] -= jacobians[c].col(j).dot(f);
+  }
+}
+
+void StepResidual::contactGeometry(const System& system, ContactDerivative derivative) {
+  const int C = static_cast<int>(system.contacts.size());
+  frameGeometry(system);
+  system.contact_model->evaluate(frames, *system.terrain, wrenches, derivative == ContactDerivative::Model);
+  if (derivative == ContactDerivative::FiniteDifference)
+    finite_difference_.evaluate(*system.contact_model, frames, *system.terrain, wrenches);
+  // B's block of contact c is J_cᵀ V_c; rows off the contact's chain stay zero.
+  for (int c = 0; c < C; ++c)
+    for (int j : contact_chains_[c])
+      B.row(j).segment(c * K_vertices_, K_vertices_).noalias() = jacobians[c].col(j).transpose() * wrenches[c].V;
+}
+
+void StepResidual::addContacts(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative) {
   const Model& model = *system.model;
-  contactGeometry(system, first_order);
+  contactGeometry(system, derivative);
   const int C = static_cast<int>(system.contacts.size());
   for (int c = 0; c < C; ++c) {
     const Mat6X& J = jacobians[c];
+    const std::vector<int>& chain = contact_chains_[c];
     const auto w_c = w.segment(c * K_vertices_, K_vertices_);
     const Vec6 f = wrenches[c].V * w_c;
-    G.noalias() -= J.transpose() * f;
+    for (int j : chain) G[j] -= J.col(j).dot(f);
     const int body = model.links[system.contacts[c].link].body;
     if (body < 0) continue;  // welded to the world: J = 0
     addJacobianTransposeWrenchDerivative(model, data, body, frames[c].position, -f, dG_dtheta);
-    if (!first_order) continue;
-    // ∂(V_c w_c)/∂θ = [dV/dξ_0 w_c, …, dV/dξ_5 w_c] J_c
+    if (derivative == ContactDerivative::Dropped) continue;
+    // ∂(V_c w_c)/∂θ = [dV/dξ_0 w_c, …, dV/dξ_5 w_c] J_c, nonzero on the chain's columns only.
     Mat6 df_dxi;
     for (int i = 0; i < 6; ++i) df_dxi.col(i).noalias() = wrenches[c].dV[i] * w_c;
-    vertex_jacobian_.noalias() = df_dxi * J;
-    dG_dtheta.noalias() -= J.transpose() * vertex_jacobian_;
+    for (int l : chain) vertex_jacobian_.col(l).noalias() = df_dxi * J.col(l);
+    for (int l : chain)
+      for (int j : chain) dG_dtheta(j, l) -= J.col(j).dot(vertex_jacobian_.col(l));
   }
 }
 

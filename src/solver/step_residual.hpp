@@ -4,9 +4,10 @@
 //   NE   G = RNEA(θ, θ̇, θ̈) − Σ_c J_cᵀ V_c(θ) w_c − τ(θ),       K = ½ θ̇ᵀ H(θ) θ̇
 //   PBD  G = ∇I(θ) + ∇U(θ) + ∇P(θ) − Σ_c J_cᵀ V_c(θ) w_c,      K = (1/2h²) Σ_k tr(B_k M̄_k B_kᵀ)
 //
-// with ∂G/∂θ either exact (first order: includes Σ J_cᵀ (∂V_c/∂θ) w_c, which needs the model's
-// dV/dξ) or zeroth order (∂Ḡ/∂θ: that term dropped; the model's derivative is never requested).
-// The (∂J_cᵀ/∂θ) V_c w_c term needs no model derivative and is in both. A constant generalized
+// with the contact term Σ J_cᵀ (∂V_c/∂θ) w_c of ∂G/∂θ built from the model's dV/dξ (first order),
+// from central differences of V (zeroth order; the model's derivative is never requested), or
+// dropped (the paper's zeroth-order ∂Ḡ/∂θ). The (∂J_cᵀ/∂θ) V_c w_c term needs no model derivative
+// and is always there. A constant generalized
 // force System::external_force is subtracted from G in both forms.
 //
 // NE: ∇K = H θ̇ / h + ∂T/∂q(θ, θ̇) exact (O(n), from RNEA's velocities and momenta), and
@@ -19,6 +20,7 @@
 #pragma once
 #include <vector>
 
+#include "contact_models/finite_difference_derivative.hpp"
 #include "multibody/data.hpp"
 #include "multibody/pbd_terms.hpp"
 #include "solver/integrator_types.hpp"
@@ -37,8 +39,13 @@ class StepResidual {
                const Eigen::VectorXd& q_prev, double h_prev, const PdTarget& target, const Mat3& base_chart,
                KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBody);
 
-  // G, ∂G/∂θ (exact if first_order, else ∂Ḡ/∂θ), B = Σ J_cᵀ V_c = −∂G/∂w, K, ∇K, ∇²K at (θ, w).
-  void evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w, bool first_order);
+  // G, ∂G/∂θ (its contact term as `derivative` says), B = Σ J_cᵀ V_c = −∂G/∂w, K, ∇K, ∇²K at (θ, w).
+  void evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
+                ContactDerivative derivative);
+
+  // G and K only (with the contact frames, J_c and V_c): what Newton's line search needs, at about a
+  // third of the cost. ∂G/∂θ, B, ∇K and ∇²K keep their previous values.
+  void evaluateValue(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w);
 
   // Kinematics, contact frames, Jacobians, V_c (no derivative) and B at q only (ne-mdp).
   void evaluateContacts(const System& system, const Eigen::VectorXd& q);
@@ -55,17 +62,22 @@ class StepResidual {
   Eigen::VectorXd grad_K;
   Eigen::MatrixXd hess_K;
   std::vector<ContactFrame> frames;
-  std::vector<ContactWrenches> wrenches;  // V_c (and dV/dξ when first order)
+  std::vector<ContactWrenches> wrenches;  // V_c (and dV/dξ unless the term is dropped)
   std::vector<Mat6X> jacobians;           // J_c (6×n)
 
   Data data;
 
  private:
-  void addContacts(const System& system, const Eigen::VectorXd& w, bool first_order);
-  void contactGeometry(const System& system, bool with_derivatives);  // frames, J_c, V_c, B
+  void addContacts(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative);
+  void contactGeometry(const System& system, ContactDerivative derivative);  // frames, J_c, V_c, dV/dξ, B
+  void frameGeometry(const System& system);  // frames and J_c only
+  void addContactForces(const System& system, const Eigen::VectorXd& w);  // G −= Σ J_cᵀ V_c w_c
 
-  void contactPointEnergy(const Model& model);
+  // NE: K = ½ Σ_k v_kᵀ I_k v_k + ½ Σ_j a_j θ̇_j² from RNEA's world velocities (= ½ θ̇ᵀ H θ̇).
+  double bodyKineticEnergy(const Model& model) const;
+  void contactPointEnergy(const Model& model, bool derivatives);
   std::vector<int> contact_bodies_;  // body of each contact (−1: welded to the world)
+  std::vector<std::vector<int>> contact_chains_;  // per contact: its body and the body's ancestors
   void addKineticEnergyConfigurationGradient(const Model& model);  // += ∂T/∂q (NE)
 
   Form form_ = Form::NewtonEuler;
@@ -81,6 +93,7 @@ class StepResidual {
   BodyTransforms transforms_n_, transforms_prev_, inertial_targets_;
   Eigen::VectorXd armature_target_;
   Data data_prev_;  // kinematics of q_n and q_prev (PBD targets)
+  FiniteDifferenceDerivative finite_difference_;
 };
 
 }  // namespace nmdp

@@ -59,10 +59,6 @@ StepSolver::StepSolver(const System& system)
   theta_.setZero(n);
   theta_trial_.setZero(n);
   theta_candidate_.setZero(n);
-  G_previous_.setZero(n);
-  secant_residual_.setZero(n);
-  jacobian_.setZero(n, n);
-  secant_correction_.setZero(n, n);
   velocity_.setZero(n);
   step_.setZero(n);
   tau_.setZero(n);
@@ -106,7 +102,7 @@ StepAttempt StepSolver::attempt(const System& system, const IntegratorOptions& o
 }
 
 bool StepSolver::project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
-                         const Eigen::VectorXd& w, bool first_order, StepAttempt& stats) {
+                         const Eigen::VectorXd& w, ContactDerivative derivative, StepAttempt& stats) {
   ++stats.projections;
   const int n = static_cast<int>(theta.size());
   // Round-off in G: the inertial term divides θ's round-off by h².
@@ -115,66 +111,80 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
   const double tolerance = options.projection_tolerance * weight_scale_ +
                            1e3 * std::numeric_limits<double>::epsilon() * mass_scale_ * lever * lever / (h * h);
   projection_tolerance_ = tolerance;
-  // Only contacts make ∂Ḡ/∂θ inexact; without them a secant would learn the inertial nonlinearity.
-  const bool secant = !first_order && options.zeroth_order_secant && residual_.weightCount() > 0;
-  residual_.evaluate(system, theta, w, first_order);
+  bool fresh = false, refresh = !factorization_valid_;
+  if (refresh)
+    residual_.evaluate(system, theta, w, derivative);
+  else
+    residual_.evaluateValue(system, theta, w);
   ++stats.g_evaluations;
   if (!allFinite(residual_.G)) return false;
   // Converged on ‖G‖∞; a step must decrease ‖G‖₂, the merit function Newton's direction descends.
   double norm = residual_.G.lpNorm<Eigen::Infinity>(), merit = residual_.G.norm();
+  // The factorization of ∂G/∂θ at a nearby iterate (at first the current PGM iterate's, which D
+  // used) is kept while its steps contract ‖G‖₂ by kRefreshContraction (chord steps: values of G
+  // only, a fifth of the cost); it is refreshed at the current θ when they do not or fail, and only
+  // a fresh factorization whose step fails is divergence.
+  bool evaluated_with_derivatives = refresh;
   for (int it = 0;; ++it) {
     if (norm <= tolerance) return true;
     if (it == options.projection_max_iterations) return false;
-    if (secant) {
-      jacobian_ = residual_.dG_dtheta + secant_correction_;
-      lu_.compute(jacobian_);
-    } else {
+    if (refresh) {
+      if (!evaluated_with_derivatives) {
+        residual_.evaluate(system, theta, w, derivative);
+        ++stats.g_evaluations;
+      }
       lu_.compute(residual_.dG_dtheta);
+      factorization_valid_ = lu_.rank() == n;
+      if (!factorization_valid_) return false;
+      fresh = true;
+      refresh = evaluated_with_derivatives = false;
     }
-    if (lu_.rank() < n) return false;
     step_ = -residual_.G;
     solveInPlace(step_, step_scratch_);
     ++stats.newton_iterations;
-    if (secant) G_previous_ = residual_.G;
     double trial_merit = 0.0;
+    bool decreased = false;
     for (int k = 0;; ++k) {
       theta_trial_ = theta + step_;
-      residual_.evaluate(system, theta_trial_, w, first_order);
+      residual_.evaluateValue(system, theta_trial_, w);
       ++stats.g_evaluations;
       trial_merit = residual_.G.norm();
-      if (trial_merit < merit) break;
-      if (k == options.projection_backtracking) return false;  // divergence (also catches NaN)
+      if (trial_merit < merit) {  // false for NaN
+        decreased = true;
+        break;
+      }
+      // An old factorization is refreshed rather than its step shortened.
+      if (!fresh || k == options.projection_backtracking) break;
       step_ *= 0.5;
     }
-    if (secant) updateSecant();
+    if (!decreased) {
+      if (fresh) return false;  // divergence (also catches NaN)
+      refresh = true;  // at θ (the residual holds the trial's values until then)
+      continue;
+    }
     theta.swap(theta_trial_);
+    refresh = trial_merit > kRefreshContraction * merit;
+    fresh = false;
     merit = trial_merit;
     norm = residual_.G.lpNorm<Eigen::Infinity>();
   }
 }
 
-void StepSolver::updateSecant() {
-  // Structured Broyden: S, the stiffness ∂Ḡ/∂θ lacks, is updated so that
-  // (∂Ḡ/∂θ(θ_new) + S) Δθ = ΔG along the Newton step just taken (w fixed; values of G only).
-  const double ss = step_.squaredNorm();
-  if (!(ss > 0)) return;
-  secant_residual_ = residual_.G - G_previous_;
-  secant_residual_.noalias() -= residual_.dG_dtheta * step_;
-  secant_residual_.noalias() -= secant_correction_ * step_;
-  secant_correction_.noalias() += (secant_residual_ / ss) * step_.transpose();
-}
-
 StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& options, const SimulationState& state,
                             double h, const PdTarget& target, const Eigen::VectorXd& w_start, double& beta) {
   StepAttempt stats;
-  const bool first_order = needsContactDerivative(options.method);
+  const ContactDerivative derivative =
+      needsContactDerivative(options.method)                                    ? ContactDerivative::Model
+      : options.zeroth_order_jacobian == ZerothOrderJacobian::FiniteDifference ? ContactDerivative::FiniteDifference
+                                                                                : ContactDerivative::Dropped;
   const Form form = isPositionBased(options.method) ? Form::PositionBased : Form::NewtonEuler;
   residual_.prepare(system, form, h, state.q, state.qd, state.q_prev, state.h_prev, target, state.base_chart,
                     options.kinetic_energy);
   theta_ = state.q;
   if (options.predict_first_iterate) theta_.noalias() += h * state.qd;
   w_ = w_start;
-  if (!project(system, options, theta_, w_, first_order, stats)) {
+  factorization_valid_ = false;  // ∂G/∂θ of another step (another h, q_n, target)
+  if (!project(system, options, theta_, w_, derivative, stats)) {
     stats.status = StepStatus::ProjectionFailed;
     return stats;
   }
@@ -184,7 +194,8 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
   // 5e-3 J for a 1 kg box at 10 ms, whose sticking would otherwise pass for converged while it creeps.
   const double gravity_h = std::max(system.model->gravity.norm(), 1.0) * h;
   const double energy_tolerance = options.epsilon * 0.5 * mass_scale_ * gravity_h * gravity_h;
-  bool evaluated_here = true;  // the residual holds the evaluation at (θ, w)
+  bool evaluated_here = true;  // the residual holds G and K at (θ, w)
+  bool derivatives_here = false;  // ... and ∂G/∂θ, B, ∇K, ∇²K
   bool need_direction = true;
   for (;;) {
     if (stats.outer_iterations == options.max_outer_iterations) {
@@ -193,13 +204,14 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
     }
     ++stats.outer_iterations;
     if (need_direction) {
-      if (!first_order && options.zeroth_order_secant && residual_.weightCount() > 0) {
-        jacobian_ = residual_.dG_dtheta + secant_correction_;
-        lu_.compute(jacobian_);
-      } else {
-        lu_.compute(residual_.dG_dtheta);
+      if (!derivatives_here) {
+        residual_.evaluate(system, theta_, w_, derivative);
+        ++stats.g_evaluations;
+        derivatives_here = evaluated_here = true;
       }
-      if (lu_.rank() < theta_.size()) {
+      lu_.compute(residual_.dG_dtheta);
+      factorization_valid_ = lu_.rank() == theta_.size();
+      if (!factorization_valid_) {
         stats.status = StepStatus::ProjectionFailed;
         return stats;
       }
@@ -237,8 +249,8 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       Eigen::VectorXd& candidate = theta_candidate_;
       candidate = theta_;
       candidate.noalias() += D_ * dw_;
-      const bool projected = project(system, options, candidate, w_trial_, first_order, stats);
-      evaluated_here = false;
+      const bool projected = project(system, options, candidate, w_trial_, derivative, stats);
+      evaluated_here = derivatives_here = false;
       if (!projected || !(residual_.K < K)) {
         ++stats.rejected;
         beta *= options.eta_reject;
@@ -256,15 +268,16 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       evaluated_here = true;
       need_direction = true;
       beta = std::max(beta / options.eta, options.beta_min);
-      // A small move ends first-order iterations (DESIGN.md 3); the zeroth-order model makes small
-      // moves far from the solution (its D̄ overstates how θ follows w), so there only K decides:
-      // with the move rule, a block pushed at 0.9 μmg slid 1 m in 1 s instead of sticking.
-      if (decrease >= energy_tolerance && (moved >= options.epsilon || !first_order)) continue;
+      // A small move ends the iteration (DESIGN.md 3), except with the dropped term: that model makes
+      // small moves far from the solution (its D̄ overstates how θ follows w), so there only K
+      // decides; with the move rule, a block pushed at 0.9 μmg slid 1 m in 1 s instead of sticking.
+      if (decrease >= energy_tolerance && (moved >= options.epsilon || derivative == ContactDerivative::Dropped))
+        continue;
     }
     break;
   }
-  if (!evaluated_here) {
-    residual_.evaluate(system, theta_, w_, first_order);
+  if (!evaluated_here) {  // for the contact wrenches at θ
+    residual_.evaluateValue(system, theta_, w_);
     ++stats.g_evaluations;
   }
   velocity_ = (theta_ - state.q) / h;

@@ -9,14 +9,15 @@
 //            below what K resolves → done
 //            θ' = Proj(θ, w + Δw) from θ + DΔw;  fails or K(θ') ≥ K(θ) → β ← η_reject·β (fail past
 //            β_max), same D;  else accept, β ← max(β/η, β_min); done if K(θ) − K(θ') < ε·½m(‖g‖h)²
-//            or (first order only) ‖θ' − θ‖∞ < ε
-// The zeroth-order variants use ∂Ḡ/∂θ (no contact-model derivative) in D and in Newton.
+//            or (unless the contact term is dropped) ‖θ' − θ‖∞ < ε
+// The zeroth-order variants never ask the model for dV/dξ: D and Newton use central differences of V
+// (ZerothOrderJacobian::FiniteDifference) or the paper's ∂Ḡ/∂θ with that term dropped.
 //
 // Proj(θ, w): Newton on G(·, w) = 0 with a full-pivoting LU (rank-revealing). A Newton step is
 // accepted only if ‖G‖₂ decreases; a step that still does not after projection_backtracking
 // halvings, a rank-deficient Jacobian, or the iteration cap is divergence (the paper notes the
 // projection can diverge without a line search; the stiff contact makes the full step overshoot on
-// landing, and ∂Ḡ/∂θ of zeroth order lacks that stiffness). Converged when ‖G‖∞ ≤
+// landing, and the paper's zeroth-order ∂Ḡ/∂θ lacks that stiffness). Converged when ‖G‖∞ ≤
 // projection_tolerance · m‖g‖ plus a round-off allowance that grows as 1/h² (the inertial term is
 // (θ − q_n)/h² and θ carries round-off).
 //
@@ -61,8 +62,7 @@ class StepSolver {
                     const Eigen::VectorXd& w_start);
   // Newton on G(·, w) = 0 from θ (in place). On success the residual holds the evaluation at θ.
   bool project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
-               const Eigen::VectorXd& w, bool first_order, StepAttempt& stats);
-  void updateSecant();
+               const Eigen::VectorXd& w, ContactDerivative derivative, StepAttempt& stats);
   void scaleFromQ();          // penalty_scale_ from the diagonal of Q_
   bool solveQp(double beta);  // Δw into dw_ with the penalty β·diag(penalty_scale_); false if the QP failed
   // Whether dw_ is a step to try: its contact force change above tol_w·m‖g‖, and predicted to lower
@@ -77,6 +77,9 @@ class StepSolver {
   QpActiveSet warm_;
   bool warm_valid_ = false;
   Eigen::FullPivLU<Eigen::MatrixXd> lu_;
+  bool factorization_valid_ = false;  // lu_ factors a full-rank ∂G/∂θ of this step at some iterate
+  // Newton keeps an old factorization while each step shrinks ‖G‖₂ at least by this factor.
+  static constexpr double kRefreshContraction = 0.3;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
   Eigen::MatrixXd D_, Q_, HD_, D_scratch_;
@@ -84,10 +87,6 @@ class StepSolver {
   Eigen::VectorXd penalty_scale_;  // the unit of β per weight: max(Q_ii, 1e-12·max Q_ii)
   Eigen::MatrixXd Q_penalized_;
   Eigen::MatrixXd B_theta_;  // B at the current iterate (the residual may hold a rejected trial)
-  Eigen::VectorXd G_previous_, secant_residual_;
-  // Zeroth order: S, a secant estimate of the contact stiffness ∂Ḡ/∂θ lacks (kept across steps), and
-  // ∂Ḡ/∂θ + S.
-  Eigen::MatrixXd secant_correction_, jacobian_;
   double predicted_decrease_ = 0.0;    // of K, by the QP model, for the last step
   double projection_tolerance_ = 0.0;  // ‖G‖∞ tolerance of the last projection
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
