@@ -1,16 +1,17 @@
 #!/usr/bin/env bash
 # Set-up command 1 (the main job): install what is missing, build, and run the default demo: the
-# project's quadruped trotting for 10 s at dt = 50 ms (models/scenes/quadruped_trot_flat.json),
-# written to demo/trot.h5 as it runs, and plotted to demo/trot.png (torso height and forward
-# distance against time, read back from the HDF5 file).
+# project's quadruped trotting on granular terrain for 10 s at dt = 50 ms
+# (models/scenes/quadruped_trot_sand.json: planar base, pbd-pgm, the hand-made sand model of
+# data/granular/), written to demo/trot.h5 as it runs, and plotted to demo/trot.png (torso height
+# and forward distance against time, read back from the HDF5 file).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
 mkdir -p demo
 echo
-echo "== nmdp simulate models/scenes/quadruped_trot_flat.json --out demo/trot.h5"
-build/nmdp simulate models/scenes/quadruped_trot_flat.json --out demo/trot.h5
+echo "== nmdp simulate models/scenes/quadruped_trot_sand.json --out demo/trot.h5"
+build/nmdp simulate models/scenes/quadruped_trot_sand.json --out demo/trot.h5
 # Debian's python3 has matplotlib and h5py (installed by install-deps.sh); another python3 first on
 # PATH (pyenv, conda) may not.
 /usr/bin/python3 scripts/plot_run.py demo/trot.h5 demo/trot.png

@@ -31,10 +31,23 @@ Numbers (all below; sinkage d = max(0, -phi)):
     TILT_GAIN = 0.5: a tilted leg pushes its shank into the sand too, so it bears more (+11 % at
     0.5 rad, +36 % at 1 rad); symmetric in beta.
   * Vertex forces, every one opposing its motion (dissipative):
-        F_x = -MU_DRAG F_b sin psi                                  (horizontal drag, 0.6 F_b)
-        F_z =  F_b (max(cos psi, 0) + LIFT sin^2 psi) - PULL F_b max(-cos psi, 0)
+        P   =  F_b (max(cos psi, 0) + LIFT sin^2 psi)                 (how hard the sand is pressed)
+        F_z =  P - PULL F_b max(-cos psi, 0)
+        F_x = -MU sin psi P                                           (friction-like drag)
     so pushing straight down gives F_b (the largest normal force of all vertices), dragging
-    sideways gives a lift of 0.2 F_b, and pulling out is held back by 0.05 F_b.
+    sideways gives a lift of 0.2 F_b with a drag of MU 0.2 F_b = 0.14 F_b, pulling out is held back
+    by 0.05 F_b, and the most horizontal force of any vertex is 0.41 F_b (at psi = 50 deg).
+    The drag is friction-like: it scales with how hard the foot presses the sand, not with the
+    depth alone. The traction of the polytope (the largest |F_x| it offers at a normal load N, over
+    N; traction() below) is 0.90, 0.75, 0.67, 0.62, 0.49 at N = 0.1, 0.2, 0.4, 0.6, 0.8 F_b and
+    0 at F_b: sand's friction-like ratio of 0.5-0.8 under load (MU = 0.7), and a lightly loaded
+    foot is dragged through the sand easily. Measured the same way, the 15 published RoboSimian
+    samples below the surface (../shared/granular/sand_samples) give 0.51-1.77, 0.43-1.32,
+    0.40-0.91, 0.34-0.73, 0.15-0.57 (medians 1.52, 0.97, 0.61, 0.43, 0.28), and their most
+    horizontal vertex force is 0.24-0.46 of their largest normal force (0.41 here).
+    (Until this version the drag was -0.6 F_b sin psi whatever the load, a traction of 4.82, 2.98,
+    1.46, 0.89, 0.53: swing feet still in the sand braked the trot harder than the stance feet
+    could push, and the planar quadruped drifted backward; see data/granular/README.md.)
   * Torque: pressure on a sphere is normal to its surface and so passes through its centre; the
     model applies the force at the sphere centre. The torque centre is put r = 0.02 m up the leg
     from the foot point (the sphere centre when the leg is upright) and tau_y, the planar moment
@@ -49,7 +62,10 @@ Numbers (all below; sinkage d = max(0, -phi)):
     the depth rows about as far apart as the angle columns; of the spacings tried (5-50) it gave the
     smallest error with a capacity that is monotone in depth. The script checks, and fails
     otherwise, that on a fine grid (phi in [-12 cm, 0], beta in [-1, 1]) the capacity is monotone
-    in depth and the fit stays within 12 N of the formulas (15 % of the capacity below 7.5 mm).
+    in depth, the fit stays within 12 N of the formulas (15 % of the capacity below 7.5 mm), and the
+    traction of the fitted polytope at 2, 3 and 5 cm (beta = 0, +-0.8) lies in [0.5, 0.8] for
+    normal loads of 20-70 % of the capacity and is at most 2 at 10 % (the published samples reach
+    1.77 there).
     Beyond 12 cm or |beta| > 1 the model extrapolates (it keeps growing with depth).
 """
 import os
@@ -63,7 +79,7 @@ ROBOT_MASS = 17.4  # kg, models/quadruped/quadruped.urdf
 GRAVITY = 9.81
 STANDING_SINKAGE = 0.015  # m, where one foot carries a quarter of the weight
 TILT_GAIN = 0.5
-MU_DRAG = 0.6
+MU = 0.7  # friction-like ratio of the drag to the pressing force P
 LIFT = 0.2
 PULL = 0.05
 VERTEX_COUNT = 26
@@ -96,8 +112,9 @@ def target_wrenches(phi, beta):
     """The 3K planar wrench components at (phi, beta): vertex j in entries 3j..3j+2 = (F_x, F_z, tau_y)."""
     fb = bearing_capacity(phi, beta)
     s, c = np.sin(DIRECTIONS), np.cos(DIRECTIONS)
-    fx = -MU_DRAG * fb * s
-    fz = fb * (np.maximum(c, 0.0) + LIFT * s * s) - PULL * fb * np.maximum(-c, 0.0)
+    pressing = fb * (np.maximum(c, 0.0) + LIFT * s * s)
+    fz = pressing - PULL * fb * np.maximum(-c, 0.0)
+    fx = -MU * s * pressing
     tau = TORQUE_CENTRE * ((1.0 - np.cos(beta)) * fx + np.sin(beta) * fz)
     return np.stack([fx, fz, tau], axis=1).reshape(-1)
 
@@ -134,6 +151,23 @@ def cutoff_step(phi):
     return t**3 * (10.0 - 15.0 * t + 6.0 * t * t)
 
 
+def traction(vertices, load):
+    """Largest |F_x| / load over the polygon hull(vertices (K x 2: F_x, F_z), origin) at F_z = load.
+
+    The hull's widest point at a height lies on a hull edge, i.e. on a segment between two of the
+    points, and every such segment lies in the hull: the maximum over all pairs is exact."""
+    points = np.vstack([vertices, [0.0, 0.0]])
+    best = 0.0
+    for a in points:
+        for b in points:
+            if a[1] == load:
+                best = max(best, abs(a[0]))
+            elif (a[1] - load) * (b[1] - load) < 0.0:
+                t = (load - a[1]) / (b[1] - a[1])
+                best = max(best, abs(a[0] + t * (b[0] - a[0])))
+    return best / load
+
+
 def check(centres, weights, polynomial):
     """Fails unless the fit is monotone in depth and close to the formulas; prints a summary."""
     worst_abs, worst_rel = 0.0, 0.0
@@ -152,11 +186,26 @@ def check(centres, weights, polynomial):
                 worst_rel = max(worst_rel, error / exact[1::3].max())
     if worst_abs > 12.0 or worst_rel > 0.15:
         sys.exit(f"check failed: fit error {worst_abs:.2f} N, {100 * worst_rel:.1f} % of the capacity")
+    shares = [0.1, 0.2, 0.4, 0.6, 0.7, 0.8]
+    table = []
+    for depth in [0.02, 0.03, 0.05]:
+        for beta in [-0.8, 0.0, 0.8]:
+            planar = (evaluate(centres, weights, polynomial, -depth, beta) * cutoff_step(-depth)).reshape(-1, 3)
+            capacity = planar[:, 1].max()
+            row = [traction(planar[:, :2], share * capacity) for share in shares]
+            if min(row[1:5]) < 0.5 or max(row[1:5]) > 0.8 or row[0] > 2.0:
+                sys.exit(f"check failed: traction {np.round(row, 2)} at depth {depth}, beta {beta} "
+                         f"(loads {shares} of the capacity)")
+            table.append((depth, beta, row))
     print(f"fit error vs the formulas: at most {worst_abs:.2f} N; {100 * worst_rel:.1f} % of the capacity below 7.5 mm")
     print("capacity (largest vertex F_z, N):  depth   beta=0   beta=0.5   beta=1")
     for depth in [0.005, 0.01, 0.015, 0.02, 0.03, 0.05, 0.08]:
         row = [evaluate(centres, weights, polynomial, -depth, b)[1::3].max() * cutoff_step(-depth) for b in (0, 0.5, 1)]
         print(f"{'':35s}{100 * depth:4.1f} cm  {row[0]:7.1f}  {row[1]:8.1f}  {row[2]:8.1f}")
+    print("traction (largest |F_x| / F_z of the fitted polytope) at normal loads of " +
+          ", ".join(f"{share:g}" for share in shares) + " x the capacity:")
+    for depth, beta, row in table:
+        print(f"    {100 * depth:3.0f} cm, beta = {beta:+.1f}:  " + "  ".join(f"{r:.2f}" for r in row))
 
 
 def write(path, centres, weights, polynomial):

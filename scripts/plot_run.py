@@ -6,7 +6,9 @@ Needs Debian's python3-h5py and python3-matplotlib (scripts/install-deps.sh), he
 
 Reads the layout of DESIGN.md section 11 (src/io/trajectory_writer.hpp): /steps (the number of
 complete steps N), /time, /base/position (x 3), /status if present, and the root attribute `config`
-(the resolved scene as JSON), which gives the title (robot, integrator method, dt) when it parses.
+(the resolved scene as JSON), which gives the title (robot, contact model, integrator method, dt)
+and the standing height robot.initial.height (drawn dashed, with a band of +-30 % around it) when
+it parses. The summary line gives the forward distance and the torso height range.
 Only the first /steps rows are used: a run that ended has exactly that many, a killed run keeps the
 writer's reserved rows after them (NaN). Files without /steps use len(/time).
 Exits with status 1 and a one-line message when the file is missing, not HDF5, or lacks the data.
@@ -79,18 +81,23 @@ def title_for(path, config, attributes, status):
                 node = None
                 break
             node = node[key]
-        if node is None and attribute in attributes:
+        if node is None and attribute is not None and attribute in attributes:
             node = attributes[attribute]
             node = node.item() if hasattr(node, "item") else node
             node = text(node) if isinstance(node, (bytes, str)) else node
         return node
 
     robot = lookup(["robot", "urdf"], "robot")
+    model = lookup(["contacts", "model", "type"], "contact_model")
+    model_file = lookup(["contacts", "model", "file"], None)
     method = lookup(["integrator", "method"], "method")
     dt = lookup(["integrator", "dt"], "dt")
     parts = []
     if robot:
         parts.append(os.path.splitext(os.path.basename(str(robot)))[0])
+    if model:
+        name = str(model).split(":")[0]  # the writer's attribute is "type: description"
+        parts.append(name + (f" ({os.path.basename(str(model_file).rstrip('/'))})" if model_file else ""))
     if method:
         parts.append(str(method))
     if isinstance(dt, (int, float)):
@@ -116,7 +123,17 @@ def main(argv):
     import matplotlib.pyplot as plt
 
     figure, (height_axes, distance_axes) = plt.subplots(2, 1, sharex=True, figsize=(8, 6))
-    height_axes.plot(time, position[:, 2], color="tab:blue")
+    standing = None
+    if isinstance(config, dict):
+        initial = config.get("robot", {}).get("initial", {}) if isinstance(config.get("robot"), dict) else {}
+        if isinstance(initial, dict) and isinstance(initial.get("height"), (int, float)):
+            standing = float(initial["height"])
+    if standing is not None:
+        height_axes.axhspan(0.7 * standing, 1.3 * standing, color="tab:gray", alpha=0.12, label="standing height ±30 %")
+        height_axes.axhline(standing, color="tab:gray", linestyle="--", linewidth=1, label="standing height")
+    height_axes.plot(time, position[:, 2], color="tab:blue", label="torso")
+    if standing is not None:
+        height_axes.legend(loc="upper right", fontsize="small")
     height_axes.set_ylabel("torso height (base z), m")
     height_axes.grid(True, alpha=0.3)
     distance_axes.plot(time, position[:, 0] - position[0, 0], color="tab:orange")
@@ -129,7 +146,11 @@ def main(argv):
         figure.savefig(png_path, dpi=100)
     except OSError as e:
         fail(f"{png_path}: cannot write ({e})")
-    print(f"wrote {png_path}: {len(time)} steps, t = {time[0]:g} .. {time[-1]:g} s")
+    height = f"torso height {position[:, 2].min():.3f} .. {position[:, 2].max():.3f} m"
+    if standing is not None:
+        height += f" ({position[:, 2].min() / standing:.2f} .. {position[:, 2].max() / standing:.2f} of standing {standing:.3f} m)"
+    print(f"wrote {png_path}: {len(time)} steps, t = {time[0]:g} .. {time[-1]:g} s; "
+          f"forward distance {position[-1, 0] - position[0, 0]:+.3f} m; {height}")
     return 0
 
 
