@@ -7,6 +7,7 @@
 #pragma once
 #include <array>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,11 @@ class ContactModel {
   virtual int vertexCount() const = 0;
   virtual DerivativeSupport derivative() const = 0;
   virtual std::string describe() const = 0;  // type and parameters, one line
+  // The JSON object this model was built from, complete: "type" and every parameter the type
+  // accepts with the value in use (defaults filled in, paths as resolved), so that the registry
+  // builds the same model from it again. Null for a model that was not built from a configuration
+  // (or cannot say); the caller then has only the configuration it gave.
+  virtual nlohmann::json configuration() const { return nullptr; }
 
   // Evaluates every contact of one step in one call (learned models batch them). `out` must hold
   // frames.size() entries resized to vertexCount(). Asking for derivatives of a model whose

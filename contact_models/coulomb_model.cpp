@@ -56,6 +56,10 @@ std::string CoulombModel::describe() const {
   return s.str();
 }
 
+nlohmann::json CoulombModel::configuration() const {
+  return {{"type", "coulomb"}, {"mu", params_.mu}, {"K", params_.K}, {"k", params_.k}, {"p", params_.p}, {"zeta", params_.zeta}};
+}
+
 double CoulombModel::normalForce(double depth) const {
   return params_.k * (std::pow(std::max(depth, 0.0), params_.p) + params_.zeta);
 }

@@ -67,6 +67,7 @@ class CoulombModel : public ContactModel {
   int vertexCount() const override { return params_.K; }
   DerivativeSupport derivative() const override { return DerivativeSupport::Analytic; }
   std::string describe() const override;
+  nlohmann::json configuration() const override;  // {"type": "coulomb", "mu", "K", "k", "p", "zeta"}
   // Allocates nothing once `out` holds frames.size() entries of K columns (it is sized if not).
   void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
                 bool with_derivatives) const override;

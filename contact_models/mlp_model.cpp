@@ -47,7 +47,8 @@ std::unique_ptr<ContactModel> makeMlpModel(const nlohmann::json& params, const C
     fail(ctx, "jacobian", "expected \"forward-mode\", \"double-backward\" or \"tangents\", got \"" + name + "\"");
 
   auto function = std::make_shared<const MlpFunction>(std::move(model.parameters), jacobian);
-  return std::make_unique<PlanarWrenchModel>(std::move(function), geometry, "mlp");
+  const nlohmann::json source = {{"file", path}, {"jacobian", mlpJacobianName(jacobian)}};
+  return std::make_unique<PlanarWrenchModel>(std::move(function), geometry, "mlp", source);
 }
 
 }  // namespace nmdp

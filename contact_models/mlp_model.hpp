@@ -14,6 +14,7 @@
 //                 forward-mode autograd), "double-backward" (reverse-mode autograd twice) or
 //                 "tangents" (hand-coded forward-mode tangents, fastest; derivative() = analytic)
 // The weights, the normalization and the activation belong to the file and cannot be overridden.
+// The model's configuration() holds every key above with the value in use (file resolved).
 // Building a model
 // calls torch::set_num_threads(1) (process-global, see mlp_function.hpp).
 // Every error is an InputError naming the configuration key (ctx.where) and the file.

@@ -73,8 +73,18 @@ void computePlanarFrame(const ContactFrame& frame, const Terrain& terrain, const
 }
 
 PlanarWrenchModel::PlanarWrenchModel(std::shared_ptr<const FeatureWrenchFunction> function, PlanarGeometry geometry,
-                                     std::string type)
-    : function_(std::move(function)), geometry_(geometry), type_(std::move(type)) {}
+                                     std::string type, nlohmann::json source)
+    : function_(std::move(function)), geometry_(geometry), type_(std::move(type)), source_(std::move(source)) {}
+
+nlohmann::json PlanarWrenchModel::configuration() const {
+  if (source_.is_null()) return nullptr;
+  nlohmann::json out = source_;
+  out["type"] = type_;
+  out["torque_centre"] = geometry_.torque_centre;
+  out["cutoff"] = geometry_.cutoff;
+  out["cutoff_width"] = geometry_.cutoff_width;
+  return out;
+}
 
 std::string PlanarWrenchModel::describe() const {
   std::ostringstream s;

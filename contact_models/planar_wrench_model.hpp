@@ -74,11 +74,16 @@ void computePlanarFrame(const ContactFrame& frame, const Terrain& terrain, const
 
 class PlanarWrenchModel : public ContactModel {
  public:
-  PlanarWrenchModel(std::shared_ptr<const FeatureWrenchFunction> function, PlanarGeometry geometry, std::string type);
+  // `source`: the configuration keys that identify the feature function ("file", "format", ...), as
+  // the factory (rbf_model.hpp, mlp_model.hpp) resolved them; null for a function built in code.
+  PlanarWrenchModel(std::shared_ptr<const FeatureWrenchFunction> function, PlanarGeometry geometry, std::string type,
+                    nlohmann::json source = nullptr);
 
   int vertexCount() const override { return function_->vertexCount(); }
   DerivativeSupport derivative() const override { return function_->derivative(); }
   std::string describe() const override;
+  // `source` with "type" and the geometry keys torque_centre, cutoff, cutoff_width; null without a source.
+  nlohmann::json configuration() const override;
   void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
                 bool with_derivatives) const override;
 
@@ -89,6 +94,7 @@ class PlanarWrenchModel : public ContactModel {
   std::shared_ptr<const FeatureWrenchFunction> function_;
   PlanarGeometry geometry_;
   std::string type_;
+  nlohmann::json source_;
   // Scratch for one evaluation (a model instance serves one simulation at a time), sized by the
   // number of contacts only.
   mutable std::vector<PlanarFrame> frames_;

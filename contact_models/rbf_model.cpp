@@ -73,6 +73,8 @@ std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const C
 
   RbfParameters parameters;
   PlanarGeometry geometry;
+  // The keys that identify the function, with the values used (PlanarWrenchModel::configuration).
+  nlohmann::json source = {{"file", path}, {"format", published ? "published" : "hdf5"}};
   if (published) {
     RbfKernelSpec spec;
     const std::string kernel = readString(params, "kernel", rbfKernelName(spec.kernel), ctx);
@@ -100,6 +102,10 @@ std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const C
       fail(ctx, "file", e.what());
     }
     geometry = publishedRbfGeometry();
+    source["weights_file"] = weights;
+    source["kernel"] = rbfKernelName(spec.kernel);
+    source["scaling"] = {spec.scaling[0], spec.scaling[1]};
+    source["epsilon"] = spec.epsilon;
   } else {
     for (const char* key : {"weights_file", "kernel", "scaling", "epsilon"})
       if (params.contains(key))
@@ -123,7 +129,7 @@ std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const C
     fail(ctx, "cutoff_width", "must be positive (the wrenches blend to zero over this band below the cut-off)");
 
   auto function = std::make_shared<const RbfFunction>(std::move(parameters));
-  return std::make_unique<PlanarWrenchModel>(std::move(function), geometry, "rbf");
+  return std::make_unique<PlanarWrenchModel>(std::move(function), geometry, "rbf", std::move(source));
 }
 
 }  // namespace nmdp

@@ -18,6 +18,9 @@
 //   cutoff_width  m > 0, blending band below the cut-off; default: the file's (HDF5) or 0.02
 // The kernel, scaling and epsilon of an HDF5 file belong to its fitted weights and cannot be
 // overridden (an InputError says so); the geometry keys override the file's values.
+// The model's configuration() holds every key with the value in use: file (resolved), format
+// ("published" or "hdf5"), for the published format weights_file, kernel, scaling and epsilon,
+// and torque_centre, cutoff, cutoff_width.
 // Every error is an InputError naming the configuration key (ctx.where) and the file.
 #pragma once
 #include <memory>

@@ -423,6 +423,28 @@ TEST(CoulombParams, FactoryReadsEveryKey) {
   EXPECT_EQ(kCoulombParameters, (std::vector<std::string>{"mu", "K", "k", "p", "zeta"}));
 }
 
+// The configuration the model reports is complete (the defaults of the keys not given) and builds
+// the same model again.
+TEST(CoulombParams, ConfigurationListsEveryParameterAndRebuildsTheSameModel) {
+  const CoulombParameters defaults;
+  const nlohmann::json reported = makeCoulombModel({{"type", "coulomb"}, {"mu", 0.4}}, context())->configuration();
+  EXPECT_EQ(reported, nlohmann::json({{"type", "coulomb"}, {"mu", 0.4}, {"K", defaults.K}, {"k", defaults.k},
+                                      {"p", defaults.p}, {"zeta", defaults.zeta}}));
+  for (const std::string& key : kCoulombParameters) EXPECT_TRUE(reported.contains(key)) << key;
+  const std::unique_ptr<ContactModel> again = makeCoulombModel(reported, context());
+  EXPECT_EQ(again->configuration(), reported);
+  const CoulombParameters& c = static_cast<CoulombModel&>(*again).parameters();
+  EXPECT_EQ(c.mu, 0.4);
+  EXPECT_EQ(c.K, defaults.K);
+  EXPECT_EQ(c.k, defaults.k);
+  EXPECT_EQ(c.p, defaults.p);
+  EXPECT_EQ(c.zeta, defaults.zeta);
+  // Non-default values survive a trip through JSON text.
+  const nlohmann::json odd = {{"type", "coulomb"}, {"mu", 0.1 + 0.2}, {"K", 7}, {"k", 1.0 / 3.0}, {"p", 2.5}, {"zeta", 1e-7 / 3}};
+  const nlohmann::json text = nlohmann::json::parse(makeCoulombModel(odd, context())->configuration().dump());
+  EXPECT_EQ(text, odd);
+}
+
 TEST(CoulombParams, BadParametersNameTheKey) {
   const std::vector<std::pair<nlohmann::json, std::string>> bad = {
       {{{"mu", -1}}, "contacts.model.mu"},      {{{"mu", 0}}, "contacts.model.mu"},

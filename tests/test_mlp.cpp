@@ -579,6 +579,25 @@ TEST(MlpModel, FactoryBuildsFromJson) {
   }
 }
 
+TEST(MlpModel, ConfigurationListsEveryKeyWithTheValueUsed) {
+  TempFile file("configuration.h5");
+  saveMlpModel(file.path(), testParameters(), testGeometry());
+  const std::filesystem::path p(file.path());
+  const ConfigContext ctx{"scene.json: contacts.model", p.parent_path().string()};
+  const PlanarGeometry g = testGeometry();
+  const nlohmann::json reported = makeMlpModel({{"file", p.filename().string()}, {"cutoff", 0.05}}, ctx)->configuration();
+  EXPECT_EQ(reported, nlohmann::json({{"type", "mlp"},
+                                      {"file", file.path()},
+                                      {"jacobian", "forward-mode"},
+                                      {"torque_centre", g.torque_centre},
+                                      {"cutoff", 0.05},
+                                      {"cutoff_width", g.cutoff_width}}));
+  for (const std::string& key : kMlpParameters) EXPECT_TRUE(reported.contains(key)) << key;
+  const auto again = makeMlpModel(nlohmann::json::parse(reported.dump()), ConfigContext{"again", "/nonexistent"});
+  EXPECT_EQ(again->configuration(), reported);
+  EXPECT_EQ(makeMlpModel({{"file", file.path()}, {"jacobian", "tangents"}}, ctx)->configuration().at("jacobian"), "tangents");
+}
+
 TEST(MlpModel, FactoryBadInput) {
   const ConfigContext ctx{"scene.json: contacts.model", "/nonexistent/base"};
   const auto expectError = [&](const nlohmann::json& params, const std::vector<std::string>& parts) {

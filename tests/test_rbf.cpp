@@ -857,6 +857,62 @@ TEST(RbfBadInput, Hdf5Format) {
   expectInputError([&] { readRbfHdf5(names); }, {names, "feature_names"});
 }
 
+// configuration() holds every key the format accepts with the value used, and builds the same model.
+TEST(RbfConfiguration, ListsEveryKeyWithTheValueUsedAndRebuildsTheSameModel) {
+  TempDir tmp;
+  const ConfigContext ctx{"scene.json: contacts.model", tmp.dir()};
+  tmp.write("pub/inputs.txt", kInputs);
+  tmp.write("pub/weights.txt", weightsText(6));
+  std::mt19937 rng(52);
+  PlanarGeometry file_geometry{0.12, 0.09, 0.015};
+  saveRbfModel(tmp.file("m.h5"), RbfFunction(syntheticRbf(RbfKernel::Gaussian, false, rng)), file_geometry);
+
+  const PlanarGeometry published = publishedRbfGeometry();
+  const RbfKernelSpec spec;
+  const std::unique_ptr<ContactModel> pub_model = makeRbfModel({{"file", "pub"}}, ctx);
+  const nlohmann::json pub = pub_model->configuration();
+  EXPECT_EQ(pub, nlohmann::json({{"type", "rbf"},
+                                 {"file", tmp.file("pub")},
+                                 {"format", "published"},
+                                 {"weights_file", tmp.file("pub/weights.txt")},
+                                 {"kernel", rbfKernelName(spec.kernel)},
+                                 {"scaling", {spec.scaling[0], spec.scaling[1]}},
+                                 {"epsilon", spec.epsilon},
+                                 {"torque_centre", published.torque_centre},
+                                 {"cutoff", published.cutoff},
+                                 {"cutoff_width", published.cutoff_width}}));
+  for (const std::string& key : kRbfParameters) EXPECT_TRUE(pub.contains(key)) << key;
+
+  // An HDF5 file: its geometry, or the override; kernel, scaling and epsilon belong to the file.
+  const std::unique_ptr<ContactModel> h5_model = makeRbfModel({{"file", "m.h5"}, {"cutoff", 0.2}}, ctx);
+  const nlohmann::json h5 = h5_model->configuration();
+  EXPECT_EQ(h5, nlohmann::json({{"type", "rbf"},
+                                {"file", tmp.file("m.h5")},
+                                {"format", "hdf5"},
+                                {"torque_centre", file_geometry.torque_centre},
+                                {"cutoff", 0.2},
+                                {"cutoff_width", file_geometry.cutoff_width}}));
+
+  const PlaneTerrain flat;
+  ContactFrame frame;
+  frame.position = Vec3(0.1, 0.0, -0.02);
+  frame.leg_axis = Vec3(std::sin(0.2), 0.0, std::cos(0.2));
+  for (const ContactModel* first : {pub_model.get(), h5_model.get()}) {
+    const nlohmann::json config = first->configuration();
+    SCOPED_TRACE(config.dump());
+    // From JSON text, in another folder: every path is absolute.
+    const auto again = makeRbfModel(nlohmann::json::parse(config.dump()), ConfigContext{"again", "/nonexistent"});
+    EXPECT_EQ(again->configuration(), config);
+    const Mat6X a = evaluateOne(*first, frame, flat), b = evaluateOne(*again, frame, flat);
+    EXPECT_TRUE((a.array() == b.array()).all());
+    EXPECT_GT(a.cwiseAbs().maxCoeff(), 0.0) << "the test frame is in contact";
+  }
+  // A PlanarWrenchModel built in code has no configuration to report.
+  EXPECT_TRUE(PlanarWrenchModel(std::make_shared<RbfFunction>(syntheticRbf(RbfKernel::Gaussian, false, rng)), published, "rbf")
+                  .configuration()
+                  .is_null());
+}
+
 TEST(RbfBadInput, Configuration) {
   TempDir tmp;
   const ConfigContext ctx{"scene.json: contacts.model", tmp.dir()};

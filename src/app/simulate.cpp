@@ -124,7 +124,10 @@ int runSimulate(const Args& args) {
   TrajectoryLayout layout;
   layout.joint_names = model.dof_names;
   for (const ContactPoint& c : system.contacts) layout.contact_names.push_back(c.name);
-  layout.config_json = resolvedWithModel(config, model).dump(2);
+  nlohmann::json resolved = resolvedWithModel(config, model);
+  // The model's own account of its parameters lists the defaults it filled in, not only the keys given.
+  if (nlohmann::json used = contact_model->configuration(); !used.is_null()) resolved["contacts"]["model"] = std::move(used);
+  layout.config_json = resolved.dump(2);
   layout.string_attributes = {{"robot", model.robot_name},
                               {"method", methodName(options.method)},
                               {"contact_model", contact_model->describe()},
