@@ -110,6 +110,13 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
   EXPECT_TRUE(initialConfiguration(again, model).isApprox(initialConfiguration(c, model), 1e-12));
   EXPECT_TRUE(gainsFor(again, model).kp.isApprox(gainsFor(c, model).kp));
   EXPECT_EQ(resolvedWithModel(again, model), full);
+  PdTarget target{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)}, again_target = target;
+  for (double t : {0.0, 0.13, 0.4}) {
+    gaitFor(c, model)->evaluate(t, target);
+    gaitFor(again, model)->evaluate(t, again_target);
+    EXPECT_EQ(again_target.position, target.position) << "the same gait, t = " << t;
+    EXPECT_EQ(again_target.velocity, target.velocity) << "the same gait, t = " << t;
+  }
 }
 
 // ---- --set -----------------------------------------------------------------------------------------
@@ -392,6 +399,9 @@ TEST(Scene, InitialConfigurationStandsOnTheGround) {
   EXPECT_NEAR(position.x(), 0.2, 1e-12);
   EXPECT_NEAR(position.y(), -0.1, 1e-12);
 
+  // An explicit height wins. robot.initial.joints is the gait's nominal pose (unlisted joints as in
+  // the default standing pose): the start is the standing pose solved from it, with the front left
+  // foot where the nominal pose puts it horizontally and all four feet level with the lowest.
   json h = f.scene;
   h["robot"]["initial"] = {{"base_position", {0, 0, 0.6}}, {"joints", {{"FL_knee_joint", -1.0}}}};
   const SceneConfig high = f.parse(h);
@@ -399,7 +409,24 @@ TEST(Scene, InitialConfigurationStandsOnTheGround) {
   forwardKinematics(model, data, qh);
   basePose(model, data, position, rpy);
   EXPECT_NEAR(position.z(), 0.6, 1e-12);
-  EXPECT_EQ(qh[model.dofIndex("FL_knee_joint")], -1.0);
+  Eigen::VectorXd nominal = q;
+  nominal[model.dofIndex("FL_knee_joint")] = -1.0;
+  Data nominal_data(model);
+  forwardKinematics(model, nominal_data, nominal);
+  const std::vector<ContactPoint> feet = contactPointsFor(high, model);
+  const Vec3 trunk = linkPoint(model, data, model.root_link, Vec3::Zero());
+  const Vec3 nominal_trunk = linkPoint(model, nominal_data, model.root_link, Vec3::Zero());
+  double nominal_mean_depth = 0;
+  for (const ContactPoint& p : feet) {
+    const Vec3 foot = linkPoint(model, data, p.link, p.offset) - trunk;
+    const Vec3 nominal_foot = linkPoint(model, nominal_data, p.link, p.offset) - nominal_trunk;
+    EXPECT_NEAR(foot.x(), nominal_foot.x(), 1e-9) << p.name;
+    EXPECT_NEAR(foot.y(), nominal_foot.y(), 1e-9) << p.name;
+    nominal_mean_depth += nominal_foot.z() / feet.size();
+  }
+  for (const ContactPoint& p : feet)
+    EXPECT_NEAR(linkPoint(model, data, p.link, p.offset).z() - trunk.z(), nominal_mean_depth, 1e-9) << p.name;
+  EXPECT_GT(std::abs(qh[model.dofIndex("FL_knee_joint")] + 1.0), 1e-3) << "the knee was solved for, not copied";
 }
 
 TEST(Scene, InitialVelocityIsTheWorldBaseTwist) {
@@ -508,6 +535,63 @@ TEST(Scene, UrdfOptionsFollowTheScene) {
   EXPECT_EQ(model.dofIndex("FL_hip_joint"), -1);
   const Eigen::VectorXd q = initialConfiguration(c, model);
   EXPECT_NEAR(lowestFootBottom(model, contactPointsFor(c, model), q), 0.0, 1e-9);
+}
+
+// ---- RoboSimian (../shared): standing from the bent pose of robot.initial.joints --------------------
+
+// The RoboSimian scenes of models/scenes, read in place: their limbs stretch out level at q = 0,
+// so the gaits stand from robot.initial.joints, and every foot starts on the ground.
+TEST(Scene, RoboSimianStandsFromTheBentPoseOfInitialJoints) {
+  NMDP_REQUIRE_SHARED("robots/robosimian/robosimian_caesar_new_all_active.urdf");
+  for (const char* name : {"robosimian_walk_planar.json", "robosimian_jump_planar.json"}) {
+    SCOPED_TRACE(name);
+    const std::string path = sourcePath(std::string("models/scenes/") + name);
+    const json scene = loadSceneJson(path);
+    const SceneConfig c = parseScene(scene, path);
+    const Model model = loadUrdf(c.urdf, urdfOptionsFor(c));
+    ASSERT_EQ(model.nq, 15) << "planar base and joints 2, 4, 6 of each limb";
+    ASSERT_NO_THROW(validateAgainstModel(c, model));
+
+    // Every foot touches the ground, the trunk level and high: a table, not a robot lying flat.
+    const Eigen::VectorXd q = initialConfiguration(c, model);
+    const std::vector<ContactPoint> feet = contactPointsFor(c, model);
+    ASSERT_EQ(feet.size(), 4u);
+    Data data(model);
+    forwardKinematics(model, data, q);
+    for (const ContactPoint& p : feet) EXPECT_NEAR(linkPoint(model, data, p.link, p.offset).z() - p.radius, 0.0, 1e-9) << p.name;
+    EXPECT_EQ(q[model.dofIndex("base_pitch")], 0.0);
+    EXPECT_GT(q[model.dofIndex("base_z")], 0.5);
+    // The start pose is the standing pose (the stand gait's target): the scene's bent pose, its
+    // feet made level (to µm: limbs 1 and 2 are yawed 0.01 rad in the URDF).
+    json stand_scene = scene;
+    stand_scene["controller"]["gait"] = {{"type", "stand"}};
+    PdTarget target{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
+    gaitFor(parseScene(stand_scene, path), model)->evaluate(0.0, target);
+    for (const auto& [joint, value] : c.initial_joints) {
+      const int i = model.dofIndex(joint);
+      EXPECT_NEAR(target.position[i], q[i], 1e-12) << joint;
+      EXPECT_NEAR(q[i], value, 1e-3) << joint;
+    }
+
+    // The resolved scene parses again to the same start, gait and resolved scene.
+    const json resolved = resolvedWithModel(c, model);
+    const SceneConfig again = parseScene(resolved, path);
+    EXPECT_EQ(initialConfiguration(again, model), q);
+    PdTarget again_target{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
+    for (double t : {0.3, 0.77, 1.4}) {
+      gaitFor(c, model)->evaluate(t, target);
+      gaitFor(again, model)->evaluate(t, again_target);
+      EXPECT_EQ(again_target.position, target.position) << "t = " << t;
+    }
+    EXPECT_EQ(resolvedWithModel(again, model), resolved);
+
+    // Without the bent pose the gait cannot stand, and the message says what to give.
+    json flat = scene;
+    flat["robot"]["initial"].erase("joints");
+    const SceneConfig without = parseScene(flat, path);
+    EXPECT_TRUE(containsAll(inputErrorMessage([&] { validateAgainstModel(without, model); }),
+                            {path, "controller.gait", "cannot reach", "robot.initial.joints"}));
+  }
 }
 
 }  // namespace

@@ -144,7 +144,6 @@ StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const S
   for (int id = 0; id < 4; ++id) {
     const Leg& leg = legs.legs[id];
     const Vec3 target(nominal_feet[id].x(), nominal_feet[id].y(), leg.foot_radius - pose.height);
-    pose.feet[id] = target;
     Eigen::VectorXd seed = pose.q;
     clampSeedIntoLimits(leg, ik.limits(), seed);
     std::vector<Eigen::VectorXd> seeds{seed};
@@ -177,6 +176,9 @@ StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const S
            ") cannot reach " + describe(target) + " m in the trunk frame at standing height " +
            std::to_string(pose.height) + " m; choose another stand.height");
     for (int j : leg.joints) pose.q[j] = best[j];
+    // Where the foot is, not where it was aimed (to IK tolerance, or off a planar leg's plane):
+    // gaits move the feet from here, and a standing pose given as nominal_q reproduces itself.
+    pose.feet[id] = ik.footInTrunk(leg, pose.q);
   }
   return pose;
 }
@@ -274,6 +276,15 @@ KeyframePdTarget makeJumpTarget(const Model& model, const JumpParameters& jump_i
   if (!(jump.pause < jump.period)) fail("jump.pause must be shorter than jump.period");
   if (!(jump.crouch_share + jump.extension_share < 1)) fail("jump.crouch_share + jump.extension_share must be below 1");
   if (!(*jump.crouch_depth < context.pose.height)) fail("jump.crouch_depth must be below the standing height");
+  if (!(*jump.push_off_height > context.pose.height)) {
+    std::ostringstream os;
+    os << "jump.push_off_height (" << *jump.push_off_height << " m) must be above the standing height ("
+       << context.pose.height << " m): the legs push the trunk up to it";
+    if (!jump_in.push_off_height)
+      os << "; its default comes from the straight-leg height at q = 0 (" << context.pose.straight_height
+         << " m), which is no higher for a robot whose legs do not hang under it at q = 0: give push_off_height";
+    fail(os.str());
+  }
 
   LegIkSolver ik(model, readJointLimits(model));
   // Feet stay under the hips; only their height in the trunk frame changes.

@@ -9,6 +9,8 @@
 // Sizes are scaled to the robot by two lengths measured at q = 0 (the legs hanging straight):
 //   leg length L        mean distance from a leg's first joint to its foot sphere centre;
 //   straight height H0  mean height of the trunk origin above the feet's lowest points.
+// A robot whose legs do not hang under it at q = 0 (RoboSimian's limbs stretch out level) stands
+// from a bent StandParameters::nominal_q; its H0 means nothing, so its jump needs push_off_height.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -42,7 +44,7 @@ struct TrotParameters {
 
 struct JumpParameters {
   std::optional<double> crouch_depth;    // m the trunk is lowered from standing; default 0.25·L
-  std::optional<double> push_off_height;  // m trunk height at full extension; default stand + 0.4·(H0 − stand)
+  std::optional<double> push_off_height;  // m trunk height at full extension, > stand; default stand + 0.4·(H0 − stand)
   double period = 1.0;                   // s, one crouch–extend–land–pause cycle
   double pause = 0.4;                    // s standing still at the end of each cycle
   // Shares of the moving time (period − pause): slow crouch, quick extension, rest to land.
@@ -65,7 +67,7 @@ struct GaitParameters {
 struct StandingPose {
   Eigen::VectorXd q;                // nq: base at (0, 0, height) level, legs by IK
   double height = 0.0;              // trunk origin above the ground
-  std::array<Vec3, 4> feet;         // foot sphere centres in the trunk frame, by LegId
+  std::array<Vec3, 4> feet;         // foot sphere centres in the trunk frame at q, by LegId
   double leg_length = 0.0;          // L
   double straight_height = 0.0;     // H0
 };

@@ -138,6 +138,25 @@ Vec3 LegIkSolver::footInTrunk(const Leg& leg, const Eigen::VectorXd& q) {
   return linkPointInTrunk(leg.foot_link_index, leg.foot_offset, q);
 }
 
+Vec3 LegIkSolver::worldPlaneNormal(const Leg& leg) const {
+  if (leg.joints.size() < 2) return Vec3::Zero();
+  const Vec3 first = (data_.R[leg.joints.front()] * model_.bodies[leg.joints.front()].axis).normalized();
+  for (int j : leg.joints) {
+    if (model_.bodies[j].kind != JointKind::Revolute) return Vec3::Zero();
+    const Vec3 axis = data_.R[j] * model_.bodies[j].axis;
+    if (axis.cross(first).norm() > 1e-9 * axis.norm()) return Vec3::Zero();
+  }
+  return first;
+}
+
+Vec3 LegIkSolver::planeNormal(const Leg& leg, const Eigen::VectorXd& q) {
+  forwardKinematics(model_, data_, q);
+  Mat3 trunk_R;
+  Vec3 trunk_p;
+  linkPose(model_, data_, model_.root_link, trunk_R, trunk_p);
+  return trunk_R.transpose() * worldPlaneNormal(leg);
+}
+
 double LegIkSolver::conditioning(const Leg& leg, const Eigen::VectorXd& q) {
   forwardKinematics(model_, data_, q);
   const Vec3 foot = linkPoint(model_, data_, leg.foot_link_index, leg.foot_offset);
@@ -146,7 +165,9 @@ double LegIkSolver::conditioning(const Leg& leg, const Eigen::VectorXd& q) {
   for (int c = 0; c < k; ++c) leg_jacobian_.col(c) = full_jacobian_.col(leg.joints[c]);
   const Eigen::JacobiSVD<Eigen::MatrixXd> svd(leg_jacobian_.leftCols(k));
   const Eigen::VectorXd& sigma = svd.singularValues();
-  return sigma[0] > 0 ? sigma[sigma.size() - 1] / sigma[0] : 0.0;
+  // A planar leg's Jacobian always has rank ≤ 2: its third singular value says nothing.
+  const int directions = std::min<int>(worldPlaneNormal(leg).isZero() ? 3 : 2, static_cast<int>(sigma.size()));
+  return sigma[0] > 0 ? sigma[directions - 1] / sigma[0] : 0.0;
 }
 
 LegIkResult LegIkSolver::solve(const Leg& leg, const Vec3& target_in_trunk, Eigen::VectorXd& q) {
@@ -160,8 +181,11 @@ LegIkResult LegIkSolver::solve(const Leg& leg, const Vec3& target_in_trunk, Eige
   Vec3 trunk_p;
   linkPose(model_, data_, model_.root_link, trunk_R, trunk_p);
   const Vec3 target = trunk_p + trunk_R * target_in_trunk;
+  // A planar leg cannot move its foot along its plane's normal: only the in-plane error counts.
+  const Vec3 plane_normal = worldPlaneNormal(leg);
+  auto reachable = [&plane_normal](const Vec3& e) -> Vec3 { return e - plane_normal * plane_normal.dot(e); };
   Vec3 foot = linkPoint(model_, data_, leg.foot_link_index, leg.foot_offset);
-  Vec3 error = target - foot;
+  Vec3 error = reachable(target - foot);
   result.error = error.norm();
   double damping = options_.initial_damping;
 
@@ -192,12 +216,12 @@ LegIkResult LegIkSolver::solve(const Leg& leg, const Vec3& target_in_trunk, Eige
       }
       forwardKinematics(model_, data_, q_trial_);
       const Vec3 trial_foot = linkPoint(model_, data_, leg.foot_link_index, leg.foot_offset);
-      const double trial_error = (target - trial_foot).norm();
+      const double trial_error = reachable(target - trial_foot).norm();
       if (trial_error < result.error) {
         improved = true;
         for (int j : leg.joints) q[j] = q_trial_[j];
         foot = trial_foot;
-        error = target - foot;
+        error = reachable(target - foot);
         result.error = trial_error;
         damping = std::max(damping / 10, 1e-15);
       } else {

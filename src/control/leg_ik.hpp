@@ -8,6 +8,11 @@
 // IK is damped least squares (Levenberg–Marquardt) on the leg's joints only: the foot position by
 // forwardKinematics, the 3×k Jacobian by pointJacobian restricted to the leg's columns, started
 // from a seed (the current pose) and projected onto joint limits when those are known.
+//
+// A *planar* leg (every joint revolute about parallel axes, e.g. RoboSimian's limbs with only
+// joints 2, 4, 6 active) moves its foot in a plane: the target's component along the axes cannot
+// be reached and is ignored (the foot keeps its offset along them), and the leg is singular when
+// its Jacobian loses rank within that plane.
 #pragma once
 #include <Eigen/Core>
 #include <array>
@@ -66,7 +71,7 @@ struct LegIkOptions {
 struct LegIkResult {
   bool converged = false;
   int iterations = 0;
-  double error = std::numeric_limits<double>::infinity();  // final ‖foot − target‖, m
+  double error = std::numeric_limits<double>::infinity();  // final ‖foot − target‖, m (in the plane of a planar leg)
 };
 
 // IK workspace for one model (which must outlive it). IK runs when gait targets are built, not
@@ -76,16 +81,21 @@ class LegIkSolver {
   explicit LegIkSolver(const Model& model, JointLimits limits = {}, LegIkOptions options = {});
 
   // Moves q's entries of leg.joints (q is the seed on entry) so that the foot's contact sphere
-  // centre reaches target_in_trunk, given in the trunk (root link) frame of pose q.
+  // centre reaches target_in_trunk, given in the trunk (root link) frame of pose q (a planar leg:
+  // its projection onto the plane the foot moves in).
   LegIkResult solve(const Leg& leg, const Vec3& target_in_trunk, Eigen::VectorXd& q);
 
   // The foot's contact sphere centre in the trunk frame at pose q.
   Vec3 footInTrunk(const Leg& leg, const Eigen::VectorXd& q);
   // Any link point in the trunk frame at pose q.
   Vec3 linkPointInTrunk(int link, const Vec3& local, const Eigen::VectorXd& q);
-  // σ_min/σ_max of the leg's 3×k foot Jacobian at pose q: near 0 at a singular pose (a straight
-  // knee), where IK cannot tell which way to bend.
+  // σ_r/σ_1 of the leg's 3×k foot Jacobian at pose q, r the number of directions the foot can
+  // move in (3, or 2 for a planar leg; at most k): near 0 at a singular pose (a straight knee),
+  // where IK cannot tell which way to bend.
   double conditioning(const Leg& leg, const Eigen::VectorXd& q);
+  // The unit normal of a planar leg's plane (its joints' common axis) in the trunk frame; zero
+  // for a leg whose foot moves in 3-D. It does not depend on the leg's joint angles.
+  Vec3 planeNormal(const Leg& leg, const Eigen::VectorXd& q);
 
   const JointLimits& limits() const { return limits_; }
 
@@ -97,6 +107,9 @@ class LegIkSolver {
   Eigen::Matrix<double, 3, Eigen::Dynamic> full_jacobian_;  // 3×nq
   Eigen::MatrixXd leg_jacobian_, normal_matrix_;            // 3×k, k×k (k ≤ nq)
   Eigen::VectorXd step_, gradient_, q_trial_;
+
+  // planeNormal in the world frame, for data_ already at the pose.
+  Vec3 worldPlaneNormal(const Leg& leg) const;
 };
 
 }  // namespace nmdp

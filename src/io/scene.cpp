@@ -180,13 +180,24 @@ std::string absolute(const std::string& path) {
   return p.lexically_normal().string();
 }
 
+// " (the folder F does not exist)" for the outermost missing folder above a missing file, which
+// says at once when a whole tree is absent (e.g. ../shared with the robots); "" if its folder exists.
+std::string missingFolderNote(const fs::path& file) {
+  std::error_code ec;
+  fs::path missing;
+  for (fs::path dir = file.parent_path(); !dir.empty() && dir != dir.parent_path() && !fs::exists(dir, ec);
+       dir = dir.parent_path())
+    missing = dir;
+  return missing.empty() ? "" : " (the folder " + missing.string() + " does not exist)";
+}
+
 // A path value: a string, resolved against the scene's folder; `must_exist` checks the file.
 std::string pathValue(const json& obj, const std::string& key, const Where& w, const std::string& base_dir,
                       bool must_exist) {
   const json& v = obj.at(key);
   if (!v.is_string() || v.get<std::string>().empty()) (w / key).fail("expected a file path, got " + v.dump());
   const std::string resolved = absolute(ConfigContext{"", base_dir}.resolve(v.get<std::string>()));
-  if (must_exist && !fs::exists(resolved)) (w / key).fail("file not found: " + resolved);
+  if (must_exist && !fs::exists(resolved)) (w / key).fail("file not found: " + resolved + missingFolderNote(resolved));
   return resolved;
 }
 
@@ -506,20 +517,53 @@ int linkIndexOrThrow(const Model& model, const std::string& link, const Where& w
   w.fail("the robot (" + model.source + ") has no link '" + link + "'" + suggestion(link, names));
 }
 
-// Standing pose and legs, if the robot is a quadruped; the error otherwise.
+// Standing pose and legs, if the robot is a quadruped and the pose can be built; the error otherwise.
 struct Standing {
   std::optional<StandingPose> pose;
+  bool quadruped = false;
   std::string error;
 };
-Standing standing(const SceneConfig& c, const Model& model) {
+Standing standingFrom(const Model& model, const StandParameters& stand) {
   Standing out;
   try {
-    const QuadrupedLegs legs = identifyQuadrupedLegs(model);
-    out.pose = standingPose(model, legs, c.gait.stand);
+    const QuadrupedLegs legs = identifyQuadrupedLegs(model, stand.nominal_q);
+    out.quadruped = true;
+    out.pose = standingPose(model, legs, stand);
   } catch (const std::invalid_argument& e) {
     out.error = e.what();
   }
   return out;
+}
+
+// The built-in gaits' stand parameters: controller.gait.height, and robot.initial.joints as the
+// nominal pose (StandParameters::nominal_q), its unlisted joints as in the standing pose without it
+// (0 if there is none). A robot whose legs do not hang under it at q = 0 (RoboSimian's stretch out
+// level) needs this bent pose to stand. Keyframes start from the default standing pose instead:
+// there robot.initial.joints only overrides the first frame.
+StandParameters standParameters(const SceneConfig& c, const Model& model) {
+  StandParameters stand = c.gait.stand;
+  if (c.gait_type == SceneGaitType::Keyframes || c.initial_joints.empty()) return stand;
+  const Where wj{fileOf(c), "robot.initial.joints"};
+  size_t actuated = 0;
+  for (int i = 0; i < model.nq; ++i) actuated += !model.bodies[i].is_base;
+  Eigen::VectorXd nominal = Eigen::VectorXd::Zero(model.nq);
+  if (c.initial_joints.size() < actuated) {
+    const Standing fill = standingFrom(model, c.gait.stand);
+    if (fill.pose) nominal = fill.pose->q;
+  }
+  for (const auto& [name, value] : c.initial_joints) nominal[actuatedIndex(model, c, name, wj / name)] = value;
+  stand.nominal_q = nominal;
+  return stand;
+}
+
+Standing standing(const SceneConfig& c, const Model& model) { return standingFrom(model, standParameters(c, model)); }
+
+// The message for a built-in gait whose standing pose cannot be built.
+std::string standingFailure(const SceneConfig& c, const Standing& s) {
+  std::string what = std::string("gait type '") + sceneGaitTypeName(c.gait_type) + "' cannot be built: " + s.error;
+  if (s.quadruped && c.initial_joints.empty())
+    what += "; give the nominal standing pose (legs bent under the trunk) in robot.initial.joints";
+  return what;
 }
 
 struct Keyframes {
@@ -687,13 +731,21 @@ int verticalBaseIndex(const Model& model) {
   return -1;
 }
 
-// The default joint pose (without the base).
-Eigen::VectorXd defaultPose(const SceneConfig& c, const Model& model) {
+// The start pose's joints (the base is set by the caller): a built-in gait's standing pose, solved
+// from robot.initial.joints (standParameters); otherwise the first keyframe, or q = 0, with the
+// joints of robot.initial.joints set as given.
+Eigen::VectorXd startJoints(const SceneConfig& c, const Model& model) {
+  Eigen::VectorXd q;
   if (c.gait_type == SceneGaitType::Keyframes) {
-    const Keyframes k = readKeyframes(c);
-    return keyframePositions(c, model, k, holdPose(c, model)).front();
+    q = keyframePositions(c, model, readKeyframes(c), holdPose(c, model)).front();
+  } else {
+    const Standing s = standing(c, model);
+    if (s.pose) return s.pose->q;
+    q = Eigen::VectorXd::Zero(model.nq);
   }
-  return holdPose(c, model);
+  const Where wj{fileOf(c), "robot.initial.joints"};
+  for (const auto& [name, value] : c.initial_joints) q[actuatedIndex(model, c, name, wj / name)] = value;
+  return q;
 }
 
 }  // namespace
@@ -841,10 +893,10 @@ void validateAgainstModel(const SceneConfig& c, const Model& model) {
     for (size_t i = 0; i < c.contact_points.size(); ++i)
       linkIndexOrThrow(model, c.contact_points[i].link, top / "contacts" / "points" / std::to_string(i) / "link");
   }
-  if (c.gait_type == SceneGaitType::Trot || c.gait_type == SceneGaitType::Jump) {
+  if (c.gait_type != SceneGaitType::Keyframes) {
+    // Trot and jump need a quadruped's standing pose; stand holds the start pose of other robots.
     const Standing s = standing(c, model);
-    if (!s.pose)
-      (top / "controller" / "gait").fail(std::string("gait type '") + sceneGaitTypeName(c.gait_type) + "' cannot be built: " + s.error);
+    if (!s.pose && (s.quadruped || c.gait_type != SceneGaitType::Stand)) (top / "controller" / "gait").fail(standingFailure(c, s));
   }
   if (c.gait_type == SceneGaitType::Keyframes) keyframePositions(c, model, readKeyframes(c), Eigen::VectorXd::Zero(model.nq));
 }
@@ -964,25 +1016,24 @@ std::unique_ptr<PdTargetSource> gaitFor(const SceneConfig& c, const Model& model
       keyframeFail(c, e.what());
     }
   }
-  if (c.gait_type == SceneGaitType::Stand) {
-    const Standing s = standing(c, model);
-    if (!s.pose) {  // not a quadruped: hold the initial joint pose
-      if (c.gait.stand.height)
-        (wg / "height").fail("needs a quadruped to build a standing pose: " + s.error);
-      return std::make_unique<ConstantPdTarget>(initialConfiguration(c, model));
-    }
+  const Standing s = standing(c, model);
+  if (!s.pose) {
+    if (c.gait_type != SceneGaitType::Stand || s.quadruped) wg.fail(standingFailure(c, s));
+    // Not a quadruped: hold the initial joint pose.
+    if (c.gait.stand.height) (wg / "height").fail("needs a quadruped to build a standing pose: " + s.error);
+    return std::make_unique<ConstantPdTarget>(initialConfiguration(c, model));
   }
+  GaitParameters gait = c.gait;
+  gait.stand = standParameters(c, model);
   try {
-    return makeGaitTarget(model, c.gait);
+    return makeGaitTarget(model, gait);
   } catch (const std::invalid_argument& e) {
     wg.fail(std::string("gait type '") + sceneGaitTypeName(c.gait_type) + "' cannot be built: " + e.what());
   }
 }
 
 Eigen::VectorXd initialConfiguration(const SceneConfig& c, const Model& model) {
-  const Where wi{fileOf(c), "robot.initial"};
-  Eigen::VectorXd q = defaultPose(c, model);
-  for (const auto& [name, value] : c.initial_joints) q[actuatedIndex(model, c, name, wi / "joints" / name)] = value;
+  Eigen::VectorXd q = startJoints(c, model);
   if (model.base == BaseType::Fixed) return q;
 
   const Vec3 angles = model.base == BaseType::Floating ? floatingAngles(c.initial_rpy) : c.initial_rpy;

@@ -12,7 +12,7 @@
 //     "armature": number (every actuated joint) | {joint: value},   (0)
 //     "initial": {
 //       "height": trunk origin height, m        (the lowest contact sphere touches the terrain)
-//       "joints": {joint: value}                (the gait's standing pose; keyframes: first frame)
+//       "joints": {joint: value}                (the start pose; see "Start pose" below)
 //       "base_position": [x, y] | [x, y, z]     ([0, 0]; z overrides height)
 //       "base_rpy": [roll, pitch, yaw], rad     ([0, 0, 0]; ZYX, as /base/rpy of the output)
 //       "velocity": {"base_linear": [3], "base_angular": [3]}   (world frame, zero)
@@ -41,11 +41,20 @@
 //                  "gait": {"type": stand | trot | jump | keyframes (stand), then per type
 //                    stand:     height
 //                    trot:      height, stride_length, step_height, period (0.5), duty_factor (0.5)
-//                    jump:      height, crouch_depth, push_off_height, period (1), pause (0.4)
+//                    jump:      height, crouch_depth, push_off_height (> height), period (1), pause (0.4)
 //                    keyframes: height, file (required, must exist), cyclic (false), period}}
 //                  Unset sizes default to the robot (control/gait.hpp).
 //   "duration": s > 0 (10)
 //   "output": {"file": path ("<scene stem>.h5" in the current directory), "every": N ≥ 1 (1)}
+//
+// Start pose: with a built-in gait (stand, trot, jump) on a quadruped, robot.initial.joints is the
+// gait's nominal pose (StandParameters::nominal_q, control/gait.hpp; joints not listed as in the
+// standing pose without it, or 0 if there is none): the standing pose keeps its feet's horizontal
+// positions and knee bends and puts all four feet at controller.gait.height below the trunk (by
+// default at their mean height in it), and the robot starts in that standing pose. A robot whose
+// legs do not hang under it at q = 0 (RoboSimian) needs such a bent pose to stand. Otherwise
+// (keyframes: over the first frame; a robot that is not a quadruped: over q = 0) the joints listed
+// are set as given.
 //
 // Keyframe files: CSV with the header `time,<joint names...>` and one row per keyframe, or JSON
 // {"times": [...], "joints": {name: [...]}}. Joints not listed hold the standing pose. With
@@ -102,7 +111,7 @@ struct SceneConfig {
   double default_armature = 0.0;
   JointValues armature;
   std::optional<double> initial_height;  // trunk origin height (base_position z included)
-  JointValues initial_joints;            // overrides of the default pose
+  JointValues initial_joints;            // the start pose, or the gait's nominal pose (see "Start pose")
   double initial_x = 0.0, initial_y = 0.0;
   Vec3 initial_rpy = Vec3::Zero();
   Vec3 initial_linear_velocity = Vec3::Zero();   // world frame
@@ -154,10 +163,13 @@ SceneConfig parseScene(const nlohmann::json& scene, const std::string& path);
 // The checks that need the robot: joint names of robot.initial.joints, robot.armature,
 // controller.kp/kd/tau_ff (suggesting the closest joint; a locked joint is named as such),
 // contact links (suggesting the closest link), "auto" contacts finding at least one foot, a
-// quadruped for trot and jump, and the keyframe file's contents.
+// quadruped's standing pose for stand, trot and jump (stand on another robot holds its start
+// pose), and the keyframe file's contents.
 void validateAgainstModel(const SceneConfig& config, const Model& model);
 
-// config.resolved completed with the model-dependent defaults (see SceneConfig::resolved).
+// config.resolved completed with the model-dependent defaults (see SceneConfig::resolved). The
+// contact model's defaults are not among them (this library builds no contact model): `nmdp
+// simulate` replaces contacts.model with the built model's ContactModel::configuration().
 nlohmann::json resolvedWithModel(const SceneConfig& config, const Model& model);
 
 // Builders for the app. Each throws InputError naming the scene key on input it cannot use.
@@ -165,8 +177,8 @@ UrdfOptions urdfOptionsFor(const SceneConfig& config);
 std::vector<ContactPoint> contactPointsFor(const SceneConfig& config, const Model& model);
 PdGains gainsFor(const SceneConfig& config, const Model& model);
 std::unique_ptr<PdTargetSource> gaitFor(const SceneConfig& config, const Model& model);
-// q (nq): joints from robot.initial.joints over the default pose; base from base_position,
-// base_rpy and height (default: shifted so the lowest contact sphere touches the terrain).
+// q (nq): joints as "Start pose" above says; base from base_position, base_rpy and height
+// (default: shifted so the lowest contact sphere touches the terrain).
 Eigen::VectorXd initialConfiguration(const SceneConfig& config, const Model& model);
 // q̇ (nq): base rates from robot.initial.velocity, joints at rest.
 Eigen::VectorXd initialVelocity(const SceneConfig& config, const Model& model);
