@@ -465,8 +465,13 @@ RbfModelFile readRbfHdf5(const std::string& path) {
 }
 
 void saveRbfModel(const std::string& path, const RbfFunction& function, const PlanarGeometry& geometry) {
-  const RbfParameters& p = function.parameters();
   h5::File file = h5::File::createAtomic(path);
+  writeRbfModel(file, function, geometry);
+  file.commit();
+}
+
+void writeRbfModel(h5::File& file, const RbfFunction& function, const PlanarGeometry& geometry) {
+  const RbfParameters& p = function.parameters();
   file.writeStringAttribute("/", "nmdp_model", "rbf");
   file.createGroup("/rbf");
   file.writeDoubleAttribute("/rbf", "format_version", kFormatVersion);
@@ -481,7 +486,6 @@ void saveRbfModel(const std::string& path, const RbfFunction& function, const Pl
   file.writeVector("/rbf/scaling", p.spec.scaling);
   if (p.polynomial.size() != 0) file.writeMatrix("/rbf/polynomial", p.polynomial);
   file.writeStrings("/rbf/feature_names", {"phi", "beta"});
-  file.commit();
 }
 
 }  // namespace nmdp

@@ -60,6 +60,10 @@
 
 namespace nmdp {
 
+namespace h5 {
+class File;
+}
+
 enum class RbfKernel { ThinPlate, Gaussian, Multiquadric, InverseMultiquadric, Cubic, Linear };
 
 const char* rbfKernelName(RbfKernel kernel);  // "thin_plate", "gaussian", ...
@@ -134,5 +138,8 @@ RbfModelFile readRbfHdf5(const std::string& path);
 
 // Writes the HDF5 model file atomically (path + ".partial", renamed on success).
 void saveRbfModel(const std::string& path, const RbfFunction& function, const PlanarGeometry& geometry);
+// Writes the model (format above) into an open file, for writers that add groups of their own
+// (training/rbf_fit.hpp adds the fit's report); the caller commits.
+void writeRbfModel(h5::File& file, const RbfFunction& function, const PlanarGeometry& geometry);
 
 }  // namespace nmdp

@@ -14,5 +14,9 @@ int runWrench(const Args& args);
 extern const char* const kWrenchHelp;
 int runSimulate(const Args& args);
 extern const char* const kSimulateHelp;
+int runFit(const Args& args);
+extern const char* const kFitHelp;
+int runGenRft(const Args& args);
+extern const char* const kGenRftHelp;
 
 }  // namespace nmdp::app

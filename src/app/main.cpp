@@ -16,10 +16,14 @@ struct Command {
 const Command kCommands[] = {
     {"simulate", "simulate a scene (robot, contacts, terrain, method, gait) and write the run to HDF5",
      nmdp::app::runSimulate, &nmdp::app::kSimulateHelp},
+    {"fit", "fit a wrench-space contact model (RBF) to force data and report its leave-one-out error",
+     nmdp::app::runFit, &nmdp::app::kFitHelp},
     {"inspect", "summarize a robot description (dof, joints, mass, links, feet) as JSON", nmdp::app::runInspect,
      &nmdp::app::kInspectHelp},
     {"wrench", "evaluate a contact model for one foot and print its wrench-space vertices", nmdp::app::runWrench,
      &nmdp::app::kWrenchHelp},
+    {"gen-rft", "wrench samples from resistive force theory over a foot shape, for nmdp fit", nmdp::app::runGenRft,
+     &nmdp::app::kGenRftHelp},
 };
 
 void printUsage(std::ostream& out) {

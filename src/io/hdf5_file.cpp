@@ -163,6 +163,14 @@ void File::writeVector(const std::string& dataset, const Eigen::VectorXd& v) {
     fail(path_, "cannot write dataset '" + dataset + "'");
 }
 
+void File::writeIntegerVector(const std::string& dataset, const Eigen::VectorXi& v) {
+  const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
+  Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
+  Handle d{H5Dcreate2(id_, dataset.c_str(), H5T_STD_I64LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+  if (d.id < 0 || (v.size() > 0 && H5Dwrite(d.id, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0))
+    fail(path_, "cannot write dataset '" + dataset + "'");
+}
+
 void File::writeStrings(const std::string& dataset, const std::vector<std::string>& values) {
   const hsize_t dims[1] = {values.size()};
   Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};

@@ -32,6 +32,7 @@ class File {
   void createGroup(const std::string& group);
   void writeMatrix(const std::string& dataset, const Eigen::MatrixXd& m);
   void writeVector(const std::string& dataset, const Eigen::VectorXd& v);  // 1-D
+  void writeIntegerVector(const std::string& dataset, const Eigen::VectorXi& v);  // 1-D int64 (read back with readMatrix)
   void writeStrings(const std::string& dataset, const std::vector<std::string>& values);
   void writeStringAttribute(const std::string& object, const std::string& name, const std::string& value);
   void writeDoubleAttribute(const std::string& object, const std::string& name, double value);

@@ -1,0 +1,155 @@
+#include "training/augmentation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+#include <utility>
+
+#include "io/input_error.hpp"
+
+namespace nmdp {
+
+namespace {
+std::string pointText(double phi, double beta) {
+  std::ostringstream s;
+  s << "(phi " << phi << ", beta " << beta << ")";
+  return s.str();
+}
+
+// Index of the row of `features` (first `rows` rows) equal to (phi, beta), or −1.
+Eigen::Index findPoint(const Eigen::MatrixX2d& features, Eigen::Index rows, double phi, double beta) {
+  for (Eigen::Index i = 0; i < rows; ++i)
+    if (features(i, 0) == phi && features(i, 1) == beta) return i;
+  return -1;
+}
+}  // namespace
+
+const char* pointOriginName(PointOrigin origin) {
+  switch (origin) {
+    case PointOrigin::Measured:
+      return "measured";
+    case PointOrigin::Mirrored:
+      return "mirrored";
+    case PointOrigin::AboveSurface:
+      return "above_surface";
+  }
+  return "?";
+}
+
+const char* mirrorVerticesName(MirrorVertices m) { return m == MirrorVertices::Same ? "same" : "reversed"; }
+
+PlanarPoints groupPlanarSamples(const ForceDataset& data, const std::string& where) {
+  validateForceDataset(data, where);
+  if (data.features.cols() != 2 || data.feature_names != std::vector<std::string>{"phi", "beta"})
+    throw InputError(where +
+                     ": dataset '/features' must have the 2 features \"phi, beta\" of the planar contact "
+                     "models (signed distance, sagittal leg angle), it has \"" +
+                     joinNames(data.feature_names) + "\"");
+  if (data.wrench.cols() != 3)
+    throw InputError(where + ": dataset '/wrench' must be N x 3 (F_x, F_z, tau_y) for a planar model, it is N x " +
+                     std::to_string(data.wrench.cols()));
+  const Eigen::Index N = data.features.rows();
+  const int K = data.vertex.maxCoeff() + 1;
+  if (K > N) {  // checked before sizing anything by K: every point needs all K vertices
+    Eigen::Index row = 0;
+    data.vertex.maxCoeff(&row);
+    throw InputError(where + ": dataset '/vertex' has the index " + std::to_string(K - 1) + " at row " +
+                     std::to_string(row) + ", but there are only " + std::to_string(N) +
+                     " samples: every point needs one sample of each vertex 0.." + std::to_string(K - 1));
+  }
+
+  std::map<std::pair<double, double>, int> index;  // point → row of the output
+  std::vector<Eigen::Index> first_row;             // the first sample of each point
+  for (Eigen::Index s = 0; s < N; ++s)
+    if (index.emplace(std::make_pair(data.features(s, 0), data.features(s, 1)), static_cast<int>(first_row.size()))
+            .second)
+      first_row.push_back(s);
+  const Eigen::Index P = static_cast<Eigen::Index>(first_row.size());
+
+  PlanarPoints out;
+  out.features.resize(P, 2);
+  out.values.resize(P, 3 * K);
+  out.origin.assign(P, PointOrigin::Measured);
+  std::vector<Eigen::Index> sample_of(P * K, -1);  // (point, vertex) → sample row
+  for (Eigen::Index s = 0; s < N; ++s) {
+    const int p = index.at({data.features(s, 0), data.features(s, 1)});
+    const int v = data.vertex[s];
+    Eigen::Index& seen = sample_of[p * K + v];
+    if (seen >= 0)
+      throw InputError(where + ": duplicate sample: rows " + std::to_string(seen) + " and " + std::to_string(s) +
+                       " both give vertex " + std::to_string(v) + " at the point " +
+                       pointText(data.features(s, 0), data.features(s, 1)) + "; remove one");
+    seen = s;
+    out.features.row(p) = data.features.row(s);
+    out.values.block(p, 3 * v, 1, 3) = data.wrench.row(s);
+  }
+  for (Eigen::Index p = 0; p < P; ++p)
+    for (int v = 0; v < K; ++v)
+      if (sample_of[p * K + v] < 0)
+        throw InputError(where + ": the point " + pointText(out.features(p, 0), out.features(p, 1)) + " (first row " +
+                         std::to_string(first_row[p]) + ") has no sample of vertex " + std::to_string(v) +
+                         ": every point needs all " + std::to_string(K) + " vertices (0.." + std::to_string(K - 1) +
+                         ")");
+  return out;
+}
+
+PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& settings) {
+  if (!(std::isfinite(settings.scale) && settings.scale != 0.0))
+    throw std::invalid_argument("augment: the scale must be finite and non-zero");
+  for (double h : settings.above_heights)
+    if (!(std::isfinite(h) && h > 0.0)) throw std::invalid_argument("augment: heights above the surface must be > 0");
+  for (double a : settings.above_angles)
+    if (!std::isfinite(a)) throw std::invalid_argument("augment: angles must be finite");
+
+  const Eigen::Index P = points.features.rows();
+  const int K = points.vertexCount();
+  // Worst case: every point mirrored, every (height, angle) added.
+  const Eigen::Index angle_bound = settings.above_angles.empty() ? 2 * P : settings.above_angles.size();
+  const Eigen::Index capacity = 2 * P + static_cast<Eigen::Index>(settings.above_heights.size()) * angle_bound;
+  PlanarPoints out;
+  out.features.resize(capacity, 2);
+  out.values.resize(capacity, 3 * K);
+  out.features.topRows(P) = points.features;
+  out.values.topRows(P) = settings.scale * points.values;
+  out.origin = points.origin;
+  Eigen::Index n = P;
+
+  if (settings.mirror) {
+    for (Eigen::Index i = 0; i < P; ++i) {
+      const double phi = points.features(i, 0), beta = points.features(i, 1);
+      if (beta == 0.0 || findPoint(out.features, n, phi, -beta) >= 0) continue;  // on the mirror plane, or measured
+      out.features.row(n) << phi, -beta;
+      for (int j = 0; j < K; ++j) {
+        const int source = settings.mirror_vertices == MirrorVertices::Same ? j : (K - j) % K;
+        // x → −x: F_x and the moment about y change sign, F_z does not.
+        out.values(n, 3 * j) = -out.values(i, 3 * source);
+        out.values(n, 3 * j + 1) = out.values(i, 3 * source + 1);
+        out.values(n, 3 * j + 2) = -out.values(i, 3 * source + 2);
+      }
+      out.origin.push_back(PointOrigin::Mirrored);
+      ++n;
+    }
+  }
+
+  std::vector<double> angles = settings.above_angles;
+  if (angles.empty())
+    for (Eigen::Index i = 0; i < n; ++i)
+      if (std::find(angles.begin(), angles.end(), out.features(i, 1)) == angles.end())
+        angles.push_back(out.features(i, 1));
+  for (double h : settings.above_heights) {
+    for (double a : angles) {
+      if (findPoint(out.features, n, h, a) >= 0) continue;
+      out.features.row(n) << h, a;
+      out.values.row(n).setZero();
+      out.origin.push_back(PointOrigin::AboveSurface);
+      ++n;
+    }
+  }
+  out.features.conservativeResize(n, 2);
+  out.values.conservativeResize(n, 3 * K);
+  return out;
+}
+
+}  // namespace nmdp

@@ -1,0 +1,183 @@
+#include "training/rbf_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <iomanip>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+
+#include "io/hdf5_file.hpp"
+#include "io/input_error.hpp"
+
+namespace nmdp {
+
+namespace {
+std::string pointText(const Eigen::MatrixX2d& f, Eigen::Index i) {
+  std::ostringstream s;
+  s << "(phi " << f(i, 0) << ", beta " << f(i, 1) << ")";
+  return s.str();
+}
+}  // namespace
+
+RbfFit fitRbf(const PlanarPoints& points, const RbfFitSettings& settings, const std::string& where) {
+  const RbfKernelSpec& spec = settings.spec;
+  if (!(settings.ridge >= 0.0) || !std::isfinite(settings.ridge))
+    throw std::invalid_argument("fitRbf: the ridge must be finite and >= 0");
+  if (!(spec.scaling.minCoeff() > 0.0) || !spec.scaling.allFinite())
+    throw std::invalid_argument("fitRbf: the scaling must be positive");
+  if (!(spec.epsilon > 0.0) || !std::isfinite(spec.epsilon))
+    throw std::invalid_argument("fitRbf: epsilon must be positive");
+
+  const Eigen::Index P = points.features.rows();
+  const Eigen::Index T = settings.polynomial ? 3 : 0;
+  const Eigen::Index needed = settings.polynomial ? 4 : 2;
+  if (P < needed)
+    throw InputError(where + ": " + std::to_string(P) + " feature point" + (P == 1 ? "" : "s") +
+                     (P == 1 ? " " + pointText(points.features, 0) : "") +
+                     " after augmentation; an RBF fit needs at least " + std::to_string(needed) +
+                     (settings.polynomial ? " (with the polynomial tail)" : "") + " distinct points");
+  if (!points.values.allFinite() || !points.features.allFinite())
+    throw InputError(where + ": non-finite feature or wrench after augmentation");
+
+  // A = [Φ + λI, P; Pᵀ, 0].
+  const Eigen::MatrixX2d scaled = points.features * spec.scaling.asDiagonal();
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(P + T, P + T);
+  for (Eigen::Index i = 0; i < P; ++i)
+    for (Eigen::Index k = 0; k <= i; ++k) {
+      double kappa = 0.0, g = 0.0;
+      rbfKernel(spec.kernel, spec.epsilon, (scaled.row(i) - scaled.row(k)).squaredNorm(), &kappa, &g);
+      A(i, k) = A(k, i) = kappa;
+    }
+  A.topLeftCorner(P, P).diagonal().array() += settings.ridge;
+  if (T) {
+    A.block(0, P, P, 1).setOnes();
+    A.block(0, P + 1, P, 2) = points.features;
+    A.block(P, 0, T, P) = A.block(0, P, P, T).transpose();
+  }
+  Eigen::MatrixXd rhs = Eigen::MatrixXd::Zero(P + T, points.values.cols());
+  rhs.topRows(P) = points.values;
+
+  const Eigen::PartialPivLU<Eigen::MatrixXd> lu(A);
+  RbfFit out;
+  out.rcond = lu.rcond();
+  if (!(out.rcond >= kRbfMinRcond)) {
+    // Name the two closest points: duplicates (or near-duplicates) are the usual cause.
+    Eigen::Index a = 0, b = 1;
+    double best = std::numeric_limits<double>::infinity();
+    for (Eigen::Index i = 0; i < P; ++i)
+      for (Eigen::Index k = 0; k < i; ++k)
+        if (const double d = (scaled.row(i) - scaled.row(k)).norm(); d < best) {
+          best = d;
+          a = k;
+          b = i;
+        }
+    std::ostringstream s;
+    s << where << ": the RBF system is singular (reciprocal condition number " << std::setprecision(3) << out.rcond
+      << " < " << kRbfMinRcond << "); the closest points are " << a << " " << pointText(points.features, a) << " ("
+      << pointOriginName(points.origin[a]) << ") and " << b << " " << pointText(points.features, b) << " ("
+      << pointOriginName(points.origin[b]) << "), " << best
+      << " apart after scaling: remove duplicate or nearly coincident points, or set rbf.ridge > 0";
+    if (settings.polynomial) s << " (with the polynomial tail, the points must also not lie on one line)";
+    throw InputError(s.str());
+  }
+  const Eigen::MatrixXd inverse = lu.inverse();
+  const Eigen::MatrixXd solution = inverse * rhs;
+  if (!solution.allFinite()) throw InputError(where + ": the RBF system has no finite solution; set rbf.ridge > 0");
+
+  out.parameters.spec = spec;
+  out.parameters.centres = points.features;
+  out.parameters.weights = solution.topRows(P);
+  if (T) out.parameters.polynomial = solution.bottomRows(T);
+
+  const Eigen::Index K = points.values.cols() / 3;
+  out.loo_error.resize(P, points.values.cols());
+  for (Eigen::Index i = 0; i < P; ++i) out.loo_error.row(i) = solution.row(i) / inverse(i, i);
+  const double overall = points.values.cwiseAbs().maxCoeff();
+  out.point_scale.resize(P);
+  out.loo_relative.resize(P, K);
+  for (Eigen::Index i = 0; i < P; ++i) {
+    const double local = points.values.row(i).cwiseAbs().maxCoeff();
+    out.point_scale[i] = local > 0.0 ? local : overall;
+    for (Eigen::Index j = 0; j < K; ++j)
+      out.loo_relative(i, j) = out.loo_error.block(i, 3 * j, 1, 3).cwiseAbs().maxCoeff() /
+                               (out.point_scale[i] > 0.0 ? out.point_scale[i] : 1.0);
+  }
+  return out;
+}
+
+std::string formatRbfFitReport(const RbfFitRecord& r) {
+  const PlanarPoints& pts = r.points;
+  const RbfFit& fit = r.fit;
+  const Eigen::Index P = pts.features.rows(), K = pts.vertexCount();
+  std::ostringstream s;
+  s << "RBF fit of " << r.data << "\n";
+  s << "settings: " << r.settings.dump() << "\n";
+  int counts[3] = {0, 0, 0};
+  for (PointOrigin o : pts.origin) ++counts[static_cast<int>(o)];
+  s << "points: " << P << " (" << counts[0] << " measured, " << counts[1] << " mirrored, " << counts[2]
+    << " zero-wrench above the surface), " << K << " vertices, " << (P + (fit.parameters.polynomial.size() ? 3 : 0))
+    << " unknowns per component\n";
+  s << std::setprecision(3) << "reciprocal condition number " << fit.rcond << ", fit time " << std::fixed
+    << 1e3 * r.seconds << " ms\n"
+    << std::defaultfloat;
+  s << "leave-one-point-out error, relative to the largest wrench at the point (%):\n";
+  s << "  vertex   max(measured)  rms(measured)   max(all)   worst point\n";
+  double worst_all = 0.0;
+  for (Eigen::Index j = 0; j < K; ++j) {
+    double max_measured = 0.0, sum2 = 0.0, max_all = 0.0;
+    Eigen::Index worst = 0, measured = 0;
+    for (Eigen::Index i = 0; i < P; ++i) {
+      const double e = fit.loo_relative(i, j);
+      if (pts.origin[i] == PointOrigin::Measured) {
+        max_measured = std::max(max_measured, e);
+        sum2 += e * e;
+        ++measured;
+      }
+      if (!(e <= max_all)) {
+        max_all = e;
+        worst = i;
+      }
+    }
+    worst_all = std::max(worst_all, max_all);
+    s << "  " << std::setw(6) << j << std::fixed << std::setprecision(2) << std::setw(15) << 100 * max_measured
+      << std::setw(15) << 100 * std::sqrt(sum2 / std::max<Eigen::Index>(measured, 1)) << std::setw(11) << 100 * max_all
+      << std::defaultfloat << std::setprecision(4) << "   " << worst << " (" << pts.features(worst, 0) << ", "
+      << pts.features(worst, 1) << ", " << pointOriginName(pts.origin[worst]) << ")\n";
+  }
+  // The points whose left-out prediction is worst, over all vertices.
+  std::vector<Eigen::Index> order(P);
+  for (Eigen::Index i = 0; i < P; ++i) order[i] = i;
+  const Eigen::VectorXd per_point = fit.loo_relative.rowwise().maxCoeff();
+  std::stable_sort(order.begin(), order.end(),
+                   [&](Eigen::Index a, Eigen::Index b) { return per_point[a] > per_point[b]; });
+  s << "worst points (largest over the vertices, %):";
+  for (Eigen::Index n = 0; n < std::min<Eigen::Index>(5, P); ++n) {
+    const Eigen::Index i = order[n];
+    s << (n ? "," : "") << " " << i << " (" << pts.features(i, 0) << ", " << pts.features(i, 1) << ") " << std::fixed
+      << std::setprecision(2) << 100 * per_point[i] << std::defaultfloat << std::setprecision(6);
+  }
+  s << "\n";
+  return s.str();
+}
+
+void saveRbfFit(const std::string& path, const RbfFitRecord& r, const PlanarGeometry& geometry) {
+  const RbfFunction function(r.fit.parameters);
+  h5::File file = h5::File::createAtomic(path);
+  writeRbfModel(file, function, geometry);
+  file.createGroup("/fit");
+  file.writeStringAttribute("/fit", "data", r.data);
+  file.writeStringAttribute("/fit", "settings", r.settings.dump());
+  file.writeStringAttribute("/fit", "report", formatRbfFitReport(r));
+  file.writeDoubleAttribute("/fit", "seconds", r.seconds);
+  file.writeMatrix("/fit/points", r.points.features);
+  Eigen::VectorXi origin(r.points.origin.size());
+  for (size_t i = 0; i < r.points.origin.size(); ++i) origin[i] = static_cast<int>(r.points.origin[i]);
+  file.writeIntegerVector("/fit/origin", origin);
+  file.writeMatrix("/fit/values", r.points.values);
+  file.writeMatrix("/fit/loo_error", r.fit.loo_error);
+  file.writeMatrix("/fit/loo_relative", r.fit.loo_relative);
+  file.commit();
+}
+
+}  // namespace nmdp

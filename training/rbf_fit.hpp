@@ -1,0 +1,75 @@
+// RBF fitting of planar wrench spaces (DESIGN.md §7.2, §9): one RBF interpolant per wrench
+// component, all vertices at once, centred at the fit points,
+//
+//     [Φ + λI  P] [W]   [Y]        Φ_ik = κ(‖S(f_i − f_k)‖),  P = [1 φ β] (the optional linear tail),
+//     [Pᵀ      0] [a] = [0],       λ ≥ 0 the ridge,
+//
+// solved with an LU factorization (Eigen). The kernels and the scaling S are those of
+// contact_models/rbf_function.hpp, so the result is an RbfFunction the "rbf" contact model loads.
+//
+// Leave-one-point-out error (Rippa 1999): removing point i (its data and its centre) and refitting
+// changes the prediction at f_i by e_i = c_i / (A⁻¹)_ii, c = A⁻¹ [Y; 0], A the matrix above, for
+// each column of Y; exact for interpolation (λ = 0), with the ridge and with the tail. It costs one
+// inverse instead of P refits. The report divides, for each point and vertex, the largest component
+// |e| by the largest |entry| of Y at that point ("the largest wrench at that point"); at zero-wrench
+// points (above the surface) by the largest |entry| of all of Y instead, since theirs is zero.
+#pragma once
+#include <Eigen/Dense>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
+
+#include "contact_models/rbf_function.hpp"
+#include "training/augmentation.hpp"
+
+namespace nmdp {
+
+struct RbfFitSettings {
+  RbfKernelSpec spec;       // kernel, scaling S, epsilon
+  double ridge = 0.0;       // λ ≥ 0, added to the kernel matrix's diagonal
+  bool polynomial = false;  // the linear tail a + b φ + c β
+};
+
+struct RbfFit {
+  RbfParameters parameters;      // centres = the fit points
+  Eigen::MatrixXd loo_error;     // P×3K: Y − the prediction of the fit without that point
+  Eigen::MatrixXd loo_relative;  // P×K: max over (F_x, F_z, τ_y) of |loo_error| / point_scale
+  Eigen::VectorXd point_scale;   // P: the largest |Y| entry at the point (of all Y at zero points)
+  double rcond = 0.0;            // reciprocal condition number estimate of A (1-norm)
+};
+
+// Systems with a reciprocal condition number below this are refused as singular.
+constexpr double kRbfMinRcond = 1e-13;
+
+// Fits the points. Throws InputError "`where`: ..." for fewer than 2 points (4 with the tail), and
+// for a singular system, naming the two closest points (after scaling) and the remedies. Throws
+// std::invalid_argument on invalid settings (negative ridge, non-positive scaling or epsilon).
+RbfFit fitRbf(const PlanarPoints& points, const RbfFitSettings& settings, const std::string& where);
+
+// What a fit records: the settings as JSON (every key with the value used), the points and the LOO
+// error, a text report.
+struct RbfFitRecord {
+  nlohmann::ordered_json settings;
+  PlanarPoints points;  // the fitted points, augmented
+  RbfFit fit;
+  std::string data;    // the data set it came from
+  double seconds = 0;  // wall time of augmentation and fit
+};
+
+// The report printed after a fit and stored in the model file: settings, sizes, condition, and the
+// leave-one-point-out error per vertex (largest and RMS over the measured points, largest over all
+// points, the worst point) and the worst points.
+std::string formatRbfFitReport(const RbfFitRecord& record);
+
+// Writes the model file of contact_models/rbf_function.hpp (format_version 1), which the "rbf"
+// contact model loads as it is, plus a group /fit (ignored by the loader):
+//   /fit                attributes: data (string), settings (JSON text), report (text), seconds
+//   /fit/points         P×2 float64 (φ, β), the fitted points (= /rbf/centres)
+//   /fit/origin         P int64: 0 measured, 1 mirrored, 2 above the surface
+//   /fit/values         P×3K float64, the fitted values (after scaling and augmentation)
+//   /fit/loo_error      P×3K float64, the leave-one-point-out error, same units
+//   /fit/loo_relative   P×K float64, relative to the largest wrench at the point
+// Atomically (path + ".partial", renamed on success).
+void saveRbfFit(const std::string& path, const RbfFitRecord& record, const PlanarGeometry& geometry);
+
+}  // namespace nmdp
