@@ -1,0 +1,108 @@
+#include <filesystem>
+#include <fstream>
+#include <iostream>
+#include <nlohmann/json.hpp>
+
+#include "app/commands.hpp"
+#include "io/input_error.hpp"
+#include "training/force_dataset.hpp"
+#include "training/rft.hpp"
+#include "training/rft_config.hpp"
+#include "training/sand_samples_csv.hpp"
+
+namespace nmdp::app {
+
+const char* const kGenRftHelp =
+    "usage: nmdp gen-rft [--config RFT.json] --out FOLDER_OR_FILE.h5\n\n"
+    "Generates wrench samples from resistive force theory (Li, Zhang, Goldman, Science 2013; the generic\n"
+    "9-coefficient form times the medium's scale zeta) integrated over a foot shape: at every (depth,\n"
+    "angle) of the grid, the wrench (F_x, F_z, tau_y) resisting each motion direction. These samples\n"
+    "are the vertices of the wrench space there, ready for nmdp fit.\n\n"
+    "  --config RFT.json  medium (zeta in N/cm^3, coefficients), foot (disc, plate or blade; sizes in m;\n"
+    "                     torque_centre; elements) and grid (depths in m, angles in rad, directions);\n"
+    "                     a file or an inline JSON object; every key is optional (see training/README.md).\n"
+    "                     Without it: a disc of radius 0.02 m, zeta 1 N/cm^3, the sand samples' points,\n"
+    "                     26 directions.\n"
+    "  --out PATH         a folder: the CSV layout of granular/sand_samples (features.csv,\n"
+    "                     wrench_samples.csv, scalars.txt) and rft_config.json, the complete\n"
+    "                     configuration (pass it to --config to regenerate); a path ending in .h5: a\n"
+    "                     force dataset (training/force_dataset.hpp)\n";
+
+namespace {
+nlohmann::json readConfigArgument(const std::string& text, std::string& where) {
+  const size_t first = text.find_first_not_of(" \t");
+  if (first != std::string::npos && text[first] == '{') {
+    where = "--config";
+    try {
+      return nlohmann::json::parse(text);
+    } catch (const nlohmann::json::parse_error& e) {
+      throw InputError("--config: not valid JSON: " + std::string(e.what()));
+    }
+  }
+  where = text;
+  std::ifstream in(text);
+  if (!in) throw InputError(text + ": cannot open the file");
+  try {
+    return nlohmann::json::parse(in);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw InputError(text + ": not valid JSON: " + std::string(e.what()));
+  }
+}
+
+bool endsWith(const std::string& s, const std::string& tail) {
+  return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
+}
+}  // namespace
+
+int runGenRft(const Args& args) {
+  nlohmann::json config = nlohmann::json::object();
+  std::string where = "defaults", out;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& a = args[i];
+    auto next = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw InputError(a + " needs a value (see nmdp gen-rft --help)");
+      return args[++i];
+    };
+    if (a == "--config") {
+      config = readConfigArgument(next(), where);
+    } else if (a == "--out") {
+      out = next();
+    } else {
+      throw InputError("unknown argument '" + a + "' (see nmdp gen-rft --help)");
+    }
+  }
+  if (out.empty()) throw InputError("--out is required: a folder, or a file ending in .h5 (see nmdp gen-rft --help)");
+
+  const RftConfig c = readRftConfig(config, where);
+  ForceDataset data = rftSamples(c.medium, c.foot, c.grid);
+  const std::string resolved = c.resolved.dump(2);
+  std::vector<std::string> written;
+  if (endsWith(out, ".h5")) {
+    data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
+    writeForceDataset(out, data);
+    written.push_back(out);
+  } else {
+    writeSandSamplesCsv(out, data);
+    const std::string config_path = (std::filesystem::path(out) / "rft_config.json").string();
+    std::ofstream f(config_path, std::ios::binary | std::ios::trunc);
+    f << resolved << "\n";
+    f.close();
+    if (!f) throw InputError(config_path + ": cannot write the file");
+    written = {"features.csv", "wrench_samples.csv", "scalars.txt", "rft_config.json"};
+  }
+
+  const Eigen::Index K = static_cast<Eigen::Index>(c.grid.directions.size());
+  const Eigen::Index N = data.wrench.rows();
+  std::cout << "wrote " << N << " wrench samples (" << N / K << " points x " << K << " directions) to " << out;
+  if (written.size() > 1) {
+    std::cout << ":";
+    for (const std::string& w : written) std::cout << " " << w;
+  }
+  std::cout << "\nlargest |F_x| " << data.wrench.col(0).cwiseAbs().maxCoeff() << " N, largest |F_z| "
+            << data.wrench.col(1).cwiseAbs().maxCoeff() << " N, largest |tau_y| "
+            << data.wrench.col(2).cwiseAbs().maxCoeff() << " N m (about the torque centre, "
+            << c.foot.torque_centre << " m up the leg)\n";
+  return 0;
+}
+
+}  // namespace nmdp::app

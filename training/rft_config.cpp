@@ -1,0 +1,198 @@
+#include "training/rft_config.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "io/input_error.hpp"
+#include "io/json_params.hpp"
+
+namespace nmdp {
+
+namespace {
+using json = nlohmann::json;
+using ojson = nlohmann::ordered_json;  // the resolved configuration keeps the documented key order
+constexpr double kHalfPi = 1.57079632679489661923;
+
+std::string join(const std::vector<std::string>& items) {
+  std::string out;
+  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
+  return out;
+}
+
+[[noreturn]] void fail(const std::string& where, const std::string& key, const std::string& what) {
+  throw InputError(where + ": " + key + ": " + what);
+}
+
+// `object` (at `where: path`) must be an object with keys from `valid` only.
+void checkKeys(const json& object, const std::string& where, const std::string& path,
+               const std::vector<std::string>& valid) {
+  if (!object.is_object()) throw InputError(where + (path.empty() ? "" : ": " + path) + ": expected a JSON object, got " + object.dump());
+  for (auto it = object.begin(); it != object.end(); ++it) {
+    if (std::find(valid.begin(), valid.end(), it.key()) != valid.end()) continue;
+    const std::string near = closestMatch(it.key(), valid);
+    fail(where, (path.empty() ? "" : path + ".") + it.key(),
+         "unknown key" + (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; valid keys: " + join(valid));
+  }
+}
+
+const json& child(const json& object, const std::string& key) {
+  static const json kEmpty = json::object();
+  return object.contains(key) ? object.at(key) : kEmpty;
+}
+
+std::vector<double> readDistinct(const json& object, const std::string& key, const std::vector<double>& fallback,
+                                 const ConfigContext& ctx, double lo, double hi, const std::string& range) {
+  const std::vector<double> v = readNumbers(object, key, fallback, ctx);
+  const std::string at = ctx.where + "." + key;
+  if (v.empty()) throw InputError(at + ": expected at least one value");
+  for (size_t i = 0; i < v.size(); ++i) {
+    if (v[i] < lo || v[i] > hi) throw InputError(at + ": " + json(v[i]).dump() + " is outside " + range);
+    for (size_t j = 0; j < i; ++j)
+      if (v[j] == v[i]) throw InputError(at + ": " + json(v[i]).dump() + " is listed twice (each point once)");
+  }
+  return v;
+}
+
+RftMedium readMedium(const json& m, const std::string& where, ojson& resolved) {
+  checkKeys(m, where, "medium", {"zeta", "coefficients"});
+  const ConfigContext ctx{where + ": medium", ""};
+  RftMedium medium;
+  medium.zeta = readNumber(m, "zeta", medium.zeta, ctx, 1e-12, 1e6);
+  RftCoefficients& c = medium.coefficients;
+  const std::vector<std::pair<std::string, double*>> fields = {
+      {"A00", &c.A00}, {"A10", &c.A10},   {"B11", &c.B11},   {"B01", &c.B01}, {"Bm11", &c.Bm11},
+      {"C11", &c.C11}, {"C01", &c.C01},   {"Cm11", &c.Cm11}, {"D10", &c.D10}};
+  std::vector<std::string> names;
+  for (const auto& f : fields) names.push_back(f.first);
+  if (m.contains("coefficients")) {
+    const json& k = m.at("coefficients");
+    checkKeys(k, where, "medium.coefficients", names);
+    const ConfigContext kctx{where + ": medium.coefficients", ""};
+    for (const auto& f : fields) {
+      if (!k.contains(f.first))
+        throw InputError(where + ": medium.coefficients." + f.first +
+                         ": missing (give all nine coefficients, or none for the generic values)");
+      *f.second = readNumber(k, f.first, 0.0, kctx);
+    }
+  }
+  ojson coefficients = ojson::object();
+  for (const auto& f : fields) coefficients[f.first] = *f.second;
+  resolved = {{"zeta", medium.zeta}, {"coefficients", coefficients}};
+  return medium;
+}
+
+RftFoot readFoot(const json& f, const std::string& where, ojson& resolved) {
+  const ConfigContext ctx{where + ": foot", ""};
+  checkKeys(f, where, "foot", {"shape", "radius", "length", "width", "torque_centre", "elements"});
+  RftFoot foot;
+  const std::string shape = readString(f, "shape", "disc", ctx);
+  const std::vector<std::string> shapes = {"disc", "plate", "blade"};
+  if (shape == "disc") {
+    foot.shape = RftShape::Disc;
+  } else if (shape == "plate") {
+    foot.shape = RftShape::Plate;
+  } else if (shape == "blade") {
+    foot.shape = RftShape::Blade;
+  } else {
+    const std::string near = closestMatch(shape, shapes);
+    fail(where, "foot.shape", "unknown shape '" + shape + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                  "; shapes: " + join(shapes));
+  }
+  resolved = ojson::object();
+  resolved["shape"] = shape;
+  if (foot.shape == RftShape::Disc) {
+    if (f.contains("length")) fail(where, "foot.length", "not used by the disc (its size is 'radius')");
+    foot.radius = readNumber(f, "radius", 0.02, ctx, 1e-6, 100.0);
+    foot.width = readNumber(f, "width", 2 * foot.radius, ctx, 1e-6, 100.0);
+    resolved["radius"] = foot.radius;
+  } else {
+    if (f.contains("radius")) fail(where, "foot.radius", "not used by the " + shape + " (its size is 'length')");
+    if (!f.contains("length")) fail(where, "foot.length", "required for the " + shape + " (m)");
+    if (!f.contains("width")) fail(where, "foot.width", "required for the " + shape + " (its out-of-plane extent, m)");
+    foot.length = readNumber(f, "length", 0.0, ctx, 1e-6, 100.0);
+    foot.width = readNumber(f, "width", 0.0, ctx, 1e-6, 100.0);
+    resolved["length"] = foot.length;
+  }
+  foot.torque_centre = readNumber(f, "torque_centre", 0.0, ctx, -100.0, 100.0);
+  foot.elements = readInteger(f, "elements", foot.elements, ctx, 1, 1000000);
+  resolved["width"] = foot.width;
+  resolved["torque_centre"] = foot.torque_centre;
+  resolved["elements"] = foot.elements;
+  return foot;
+}
+
+std::vector<RftTwist> readDirections(const json& d, const std::string& where, ojson& resolved) {
+  const std::string path = "grid.directions";
+  const ConfigContext ctx{where + ": " + path, ""};
+  if (!d.is_object()) throw InputError(where + ": " + path + ": expected a JSON object, got " + d.dump());
+  const std::string type = readString(d, "type", "circle", ctx);
+  resolved = {{"type", type}};
+  if (type == "circle") {
+    checkKeys(d, where, path, {"type", "count"});
+    const int count = readInteger(d, "count", 26, ctx, 1, 100000);
+    resolved["count"] = count;
+    return rftCircleDirections(count);
+  }
+  if (type == "cube") {
+    checkKeys(d, where, path, {"type", "rotation_radius"});
+    if (!d.contains("rotation_radius"))
+      fail(where, path + ".rotation_radius", "required for type 'cube' (m: a point this far from the torque centre "
+                                             "moves at unit speed under unit rotation)");
+    const double r = readNumber(d, "rotation_radius", 0.0, ctx, 1e-6, 100.0);
+    resolved["rotation_radius"] = r;
+    return rftCubeDirections(r);
+  }
+  if (type == "list") {
+    checkKeys(d, where, path, {"type", "twists"});
+    const std::string at = where + ": " + path + ".twists";
+    if (!d.contains("twists") || !d.at("twists").is_array() || d.at("twists").empty())
+      throw InputError(at + ": expected a non-empty list of [vx, vz, omega] (m/s, m/s, rad/s)");
+    std::vector<RftTwist> out;
+    for (size_t i = 0; i < d.at("twists").size(); ++i) {
+      const json& t = d.at("twists")[i];
+      const std::string ti = at + "[" + std::to_string(i) + "]";
+      if (!t.is_array() || t.size() != 3)
+        throw InputError(ti + ": expected [vx, vz, omega] (m/s, m/s, rad/s), got " + t.dump());
+      for (const json& x : t)
+        if (!x.is_number() || !std::isfinite(x.get<double>()))
+          throw InputError(ti + ": expected three finite numbers, got " + t.dump());
+      const RftTwist tw{t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
+      if (tw.vx == 0 && tw.vz == 0 && tw.omega == 0) throw InputError(ti + ": a zero twist is no direction");
+      out.push_back(tw);
+    }
+    resolved["twists"] = ojson::parse(d.at("twists").dump());
+    return out;
+  }
+  const std::vector<std::string> types = {"circle", "cube", "list"};
+  const std::string near = closestMatch(type, types);
+  fail(where, path + ".type", "unknown type '" + type + "'" + (near.empty() ? "" : " (did you mean '" + near + "'?)") +
+                                  "; types: " + join(types));
+}
+}  // namespace
+
+RftConfig readRftConfig(const json& config, const std::string& where) {
+  checkKeys(config, where, "", {"medium", "foot", "grid"});
+  RftConfig c;
+  ojson medium, foot, grid = ojson::object(), directions;
+  c.medium = readMedium(child(config, "medium"), where, medium);
+  c.foot = readFoot(child(config, "foot"), where, foot);
+  const json& g = child(config, "grid");
+  checkKeys(g, where, "grid", {"depths", "angles", "directions"});
+  const ConfigContext gctx{where + ": grid", ""};
+  // The defaults are the points of the published sand samples (granular/README.md).
+  c.grid.depths = readDistinct(g, "depths", {-0.01, -0.03, -0.05, -0.07, 0.0}, gctx, -100.0, 0.0,
+                               "[-100, 0] (m, negative below the surface)");
+  c.grid.angles = readDistinct(g, "angles", {0.0, 0.3, 0.6, 0.9}, gctx, -kHalfPi, kHalfPi, "[-pi/2, pi/2] (rad)");
+  c.grid.directions =
+      readDirections(g.contains("directions") ? g.at("directions") : json{{"type", "circle"}}, where, directions);
+  grid["depths"] = c.grid.depths;
+  grid["angles"] = c.grid.angles;
+  grid["directions"] = directions;
+  c.resolved = nlohmann::ordered_json::object();
+  c.resolved["medium"] = medium;
+  c.resolved["foot"] = foot;
+  c.resolved["grid"] = grid;
+  return c;
+}
+
+}  // namespace nmdp
