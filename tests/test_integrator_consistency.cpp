@@ -22,6 +22,7 @@
 #include "multibody/kinematics.hpp"
 #include "solver/integrator.hpp"
 #include "terrain/plane.hpp"
+#include "integrator_fixtures.hpp"
 #include "test_support.hpp"
 
 #define NMDP_COUNT_OPERATOR_NEW
@@ -34,43 +35,6 @@ namespace {
 using Vec = Eigen::VectorXd;
 
 const char* const kAllMethods[] = {"ne-pgm", "ne-zopgm", "pbd-pgm", "pbd-zopgm", "ne-mdp"};
-
-struct Quadruped {
-  Model model;
-  CoulombModel contact_model;
-  PlaneTerrain terrain;
-  System system;
-  explicit Quadruped(BaseType base = BaseType::Floating, const ContactModel* model_override = nullptr)
-      : model(loadUrdf(test::quadrupedUrdf(), [&] {
-          UrdfOptions o;
-          o.base = base;
-          return o;
-        }())) {
-    system.model = &model;
-    system.contacts = footContactPoints(model);
-    system.contact_model = model_override ? model_override : &contact_model;
-    system.terrain = &terrain;
-    system.gains = defaultPdGains(model);
-  }
-  // Foot clearances φ(c) − r at q (negative: penetration).
-  Vec clearances(const Vec& q) const {
-    Data data(model);
-    forwardKinematics(model, data, q);
-    Vec out(system.contacts.size());
-    for (size_t c = 0; c < system.contacts.size(); ++c) {
-      const ContactPoint& cp = system.contacts[c];
-      out[c] = linkPoint(model, data, cp.link, cp.offset).z() - cp.radius;
-    }
-    return out;
-  }
-  // Legs straight, the feet `depth` below the ground (depth < 0: above it).
-  Vec standing(double depth = 0.0) const {
-    Vec q = Vec::Zero(model.nq);
-    const int iz = model.dofIndex("base_z");
-    q[iz] -= clearances(q).minCoeff() + depth;
-    return q;
-  }
-};
 
 // A target that swings every actuated joint sinusoidally about a pose (its velocity is the true
 // derivative), so runs exercise the PD target path.
@@ -110,31 +74,6 @@ IntegratorOptions optionsFor(const char* name) {
 // from the first-order one; docs/INTEGRATOR.md.)
 // The stopping rule bounds the distance to the optimum: with ε = tol_w = 1e-10 and K's curvature
 // at least m/h² in θ, ‖θ − θ*‖ ≲ √(2ε h²/m) ≈ 1.4e-7 for the 1 kg box at 10 ms; we allow 1e-6.
-struct BoxOnGround {
-  Model model = loadUrdf(test::sourcePath("tests/data/box.urdf"), {});
-  CoulombModel contact_model;
-  PlaneTerrain terrain;
-  System system;
-  BoxOnGround() {
-    system.model = &model;
-    system.gains = defaultPdGains(model);
-    for (double sx : {-1.0, 1.0})
-      for (double sy : {-1.0, 1.0}) {
-        ContactPoint c;
-        c.link = model.linkIndex("box");
-        c.offset = Vec3(0.1 * sx, 0.1 * sy, -0.05);
-        system.contacts.push_back(c);
-      }
-    system.contact_model = &contact_model;
-    system.terrain = &terrain;
-  }
-  // Base height at which each corner carries a quarter of the weight with its whole cone.
-  double restingHeight() const {
-    const CoulombParameters& p = contact_model.parameters();
-    return 0.05 - std::cbrt(model.total_mass * 9.81 / 4 / p.k - p.zeta);
-  }
-};
-
 void expectSameStep(const System& system, const Vec& q, const Vec& qd, double dt, const std::string& what,
                     ZerothOrderJacobian zeroth_order = ZerothOrderJacobian::FiniteDifference) {
   const ConstantPdTarget target(q);
@@ -159,8 +98,8 @@ void expectSameStep(const System& system, const Vec& q, const Vec& qd, double dt
 }
 
 TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStepOnRandomContactStates) {
-  BoxOnGround box;
-  Quadruped robot;
+  test::BoxOnPlane box(true);
+  test::QuadrupedOnPlane robot;
   std::mt19937 rng(7);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
   for (int trial = 0; trial < 6; ++trial) {
@@ -184,7 +123,7 @@ TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStepOnRandomContactStates) {
 }
 
 TEST(IntegratorConsistency, PaperZerothOrderReachesTheSameStepWhereItIsPinned) {
-  BoxOnGround box;
+  test::BoxOnPlane box(true);
   Vec q = Vec::Zero(6), qd = Vec::Zero(6);
   q[2] = box.restingHeight();
   expectSameStep(box.system, q, qd, 0.01, "box at rest", ZerothOrderJacobian::Dropped);
@@ -197,7 +136,7 @@ TEST(IntegratorConsistency, PaperZerothOrderReachesTheSameStepWhereItIsPinned) {
   ASSERT_TRUE(advance(box.system, options, target, state, 0.01, ws).converged);
   EXPECT_NEAR(state.qd[0], 1.0 - 0.7 * 9.81 * 0.01, 1e-3);
 
-  Quadruped robot;
+  test::QuadrupedOnPlane robot;
   expectSameStep(robot.system, robot.standing(0.0035), Vec::Zero(robot.model.nq), 0.01, "quadruped standing",
                  ZerothOrderJacobian::Dropped);
 }
@@ -205,7 +144,7 @@ TEST(IntegratorConsistency, PaperZerothOrderReachesTheSameStepWhereItIsPinned) {
 // ---------------------------------------------------------------------------------------------
 // NE vs PBD as dt → 0: both are first-order discretisations of the same dynamics, so the distance
 // between their trajectories over a fixed time shrinks linearly with dt.
-double maxTrajectoryDifference(const Quadruped& robot, const Vec& q0, const Vec& qd0, const PdTargetSource& target,
+double maxTrajectoryDifference(const test::QuadrupedOnPlane& robot, const Vec& q0, const Vec& qd0, const PdTargetSource& target,
                                double dt, double duration) {
   std::vector<Vec> traj[2];
   const char* names[2] = {"ne-pgm", "pbd-pgm"};
@@ -227,7 +166,7 @@ double maxTrajectoryDifference(const Quadruped& robot, const Vec& q0, const Vec&
   return diff;
 }
 
-void expectLinearConvergence(const Quadruped& robot, const Vec& q0, const Vec& qd0, const PdTargetSource& target,
+void expectLinearConvergence(const test::QuadrupedOnPlane& robot, const Vec& q0, const Vec& qd0, const PdTargetSource& target,
                              const char* what) {
   std::vector<double> diffs;
   for (double dt : {4e-3, 2e-3, 1e-3}) {
@@ -243,7 +182,7 @@ void expectLinearConvergence(const Quadruped& robot, const Vec& q0, const Vec& q
 // the joints stiff (√(K_p/I) ~ 200 rad/s, h ω ~ 0.8 at dt = 4 ms): the asymptotic regime would need
 // far smaller steps.
 TEST(IntegratorConsistency, NeAndPbdConvergeSwingingInTheAir) {
-  Quadruped robot;
+  test::QuadrupedOnPlane robot;
   robot.system.gains.kp.setZero();
   robot.system.gains.kd.setZero();
   const Vec q0 = robot.standing(-0.5);
@@ -255,7 +194,7 @@ TEST(IntegratorConsistency, NeAndPbdConvergeSwingingInTheAir) {
 
 // The PD-held quadruped dropped from 5 mm onto the ground: landing, then standing.
 TEST(IntegratorConsistency, NeAndPbdConvergeLanding) {
-  Quadruped robot(BaseType::Planar);
+  test::QuadrupedOnPlane robot(BaseType::Planar);
   const Vec q0 = robot.standing(-0.005);
   const ConstantPdTarget target(robot.standing());
   expectLinearConvergence(robot, q0, Vec::Zero(robot.model.nq), target, "landing (planar)");
@@ -282,7 +221,7 @@ class NoDerivativeCoulomb final : public ContactModel {
 
 TEST(IntegratorConsistency, FirstOrderMethodRefusesModelWithoutDerivative) {
   NoDerivativeCoulomb model;
-  Quadruped robot(BaseType::Floating, &model);
+  test::QuadrupedOnPlane robot(BaseType::Floating, &model);
   for (const auto& [first, twin] : {std::pair{"ne-pgm", "ne-zopgm"}, std::pair{"pbd-pgm", "pbd-zopgm"}}) {
     SCOPED_TRACE(first);
     const IntegratorOptions options = optionsFor(first);
@@ -325,7 +264,7 @@ TEST(IntegratorConsistency, FirstOrderMethodRefusesModelWithoutDerivative) {
 // ---------------------------------------------------------------------------------------------
 // Determinism: the same 1 s run twice, with fresh workspaces, is bit-identical.
 TEST(IntegratorConsistency, SameRunTwiceIsBitIdentical) {
-  Quadruped robot;
+  test::QuadrupedOnPlane robot;
   const Vec q0 = robot.standing(-0.003);
   std::mt19937 rng(9);
   const Vec qd0 = test::randomVector(rng, robot.model.nq, 0.3);
@@ -362,7 +301,7 @@ TEST(IntegratorConsistency, SameRunTwiceIsBitIdentical) {
 // No heap allocation inside advance() once warmed up, for every method (the zeroth-order ones with
 // both Jacobians), on the standing quadruped.
 TEST(IntegratorConsistency, AdvanceAllocatesNothingAfterWarmUp) {
-  Quadruped robot;
+  test::QuadrupedOnPlane robot;
   const Vec q0 = robot.standing(0.002);
   const SwingTarget target(robot.standing(), 0.05, 6.0);
   std::vector<std::pair<const char*, ZerothOrderJacobian>> runs;

@@ -22,6 +22,7 @@
 #include "multibody/kinematics.hpp"
 #include "solver/integrator.hpp"
 #include "terrain/plane.hpp"
+#include "integrator_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace nmdp {
@@ -40,45 +41,11 @@ void setMethod(IntegratorOptions& options, const std::string& name) {
   if (colon != std::string::npos) options.zeroth_order_jacobian = *parseZerothOrderJacobian(name.substr(colon + 1));
 }
 
-std::string boxUrdf() { return test::sourcePath("tests/data/box.urdf"); }
 std::string pendulumUrdf() { return test::sourcePath("tests/data/pendulum.urdf"); }
 
 double seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
-
-// The box on a floating base with its four bottom corners (radius 0) as contacts, or no contacts.
-struct Box {
-  static constexpr double kHalfHeight = 0.05;
-  Model model = loadUrdf(boxUrdf(), {});
-  CoulombModel contact_model;
-  PlaneTerrain terrain;
-  System system;
-  explicit Box(bool with_contacts, const CoulombParameters& params = {}) : contact_model(params) {
-    system.model = &model;
-    system.gains = defaultPdGains(model);  // all zero: every coordinate is a base coordinate
-    if (with_contacts) {
-      for (double sx : {-1.0, 1.0})
-        for (double sy : {-1.0, 1.0}) {
-          ContactPoint c;
-          c.name = std::string("corner") + (sx > 0 ? "+" : "-") + (sy > 0 ? "+" : "-");
-          c.link = model.linkIndex("box");
-          c.offset = Vec3(0.1 * sx, 0.1 * sy, -kHalfHeight);
-          c.radius = 0.0;
-          system.contacts.push_back(c);
-        }
-      system.contact_model = &contact_model;
-      system.terrain = &terrain;
-    }
-  }
-  double mass() const { return model.total_mass; }
-  // Base height at which each corner carries a quarter of the weight with its whole cone (1ᵀw = 1).
-  double restingHeight() const {
-    const CoulombParameters& p = contact_model.parameters();
-    const double depth = std::pow(mass() * kG / 4 / p.k - p.zeta, 1.0 / p.p);
-    return kHalfHeight - depth;
-  }
-};
 
 // A PD target source (constant zero target; the box has no actuated joint) that also observes the
 // simulation state each time the integrator asks for a target, i.e. at the start of every sub-step
@@ -136,7 +103,7 @@ struct BallisticReference {
 // ---------------------------------------------------------------------------------------------
 
 TEST(FreeFall, NoContactsMatchesClosedFormBackwardEulerEveryMethod) {
-  Box box(false);
+  test::BoxOnPlane box(false);
   const Vec3 g = box.model.gravity;
   for (const char* name : kAllMethods) {
     // (Not 1 ms: the NE velocity is the difference quotient (θ − q_n)/h, whose position round-off
@@ -185,7 +152,7 @@ TEST(FreeFall, DroppedBoxMatchesClosedFormUpToImpactAcrossSplitSteps) {
   params.zeta = 1e-24;
   // A stiff ground (k = 1e11 N/m³, 0.3 mm resting depth) and a 2 m drop make the impact hard.
   params.k = 1e11;
-  Box box(true, params);
+  test::BoxOnPlane box(true, params);
   const Vec3 g = box.model.gravity;
   const double dt = 0.05, drop = 2.0;
   // First-order methods: their Newton iteration is exact, so free flight ends on the closed form
@@ -201,7 +168,7 @@ TEST(FreeFall, DroppedBoxMatchesClosedFormUpToImpactAcrossSplitSteps) {
     // Algorithm 2 splits it (free-flight steps converge in one or two iterations).
     options.max_outer_iterations = 3;
     Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6), qd0 = Eigen::VectorXd::Zero(6);
-    q0[2] = Box::kHalfHeight + drop;
+    q0[2] = test::BoxOnPlane::kHalfHeight + drop;
     qd0[0] = 0.2;
     StepWorkspace ws(box.system, options);
     SimulationState state = initialState(box.system, options, q0, qd0, dt);
@@ -248,7 +215,7 @@ TEST(FreeFall, DroppedBoxMatchesClosedFormUpToImpactAcrossSplitSteps) {
 // parabola, since no force but gravity acts on it, while the orientation evolves nonlinearly
 // (and the base chart is re-centred as the angles grow).
 TEST(FreeFall, TumblingBoxCentreOfMassFollowsClosedForm) {
-  Box box(false);
+  test::BoxOnPlane box(false);
   const Vec3 g = box.model.gravity;
   const int link = box.model.linkIndex("box");
   Data data(box.model);
@@ -431,7 +398,7 @@ TEST(BoxAtRest, SupportForceEqualsWeightAndNoDrift) {
   for (const Case& c : cases) {
     SCOPED_TRACE(std::string(c.method) + " dt " + std::to_string(c.dt));
     const auto start = std::chrono::steady_clock::now();
-    Box box(true);
+    test::BoxOnPlane box(true);
     const double weight = box.mass() * kG;
     IntegratorOptions options;
     setMethod(options, c.method);
@@ -479,7 +446,7 @@ struct PushResult {
 };
 
 PushResult push(const char* method, double force_over_mu_mg, double dt) {
-  Box box(true);
+  test::BoxOnPlane box(true);
   const double mu = box.contact_model.parameters().mu, mass = box.mass();
   IntegratorOptions options;
   setMethod(options, method);

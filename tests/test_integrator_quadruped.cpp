@@ -7,40 +7,16 @@
 #include "multibody/kinematics.hpp"
 #include "solver/integrator.hpp"
 #include "terrain/plane.hpp"
+#include "integrator_fixtures.hpp"
 #include "test_support.hpp"
 
 namespace nmdp {
 namespace {
 
-struct Quadruped {
-  Model model = loadUrdf(test::quadrupedUrdf(), {});
-  CoulombModel contact_model;
-  PlaneTerrain terrain;
-  System system;
-  Quadruped() {
-    system.model = &model;
-    system.contacts = footContactPoints(model);
-    system.contact_model = &contact_model;
-    system.terrain = &terrain;
-    system.gains = defaultPdGains(model);
-  }
-  // Standing pose: legs straight, feet touching the ground.
-  Eigen::VectorXd standing() const {
-    Eigen::VectorXd q = Eigen::VectorXd::Zero(model.nq);
-    Data data(model);
-    forwardKinematics(model, data, q);
-    double lowest = 1e9;
-    for (const ContactPoint& c : system.contacts)
-      lowest = std::min(lowest, linkPoint(model, data, c.link, c.offset).z() - c.radius);
-    q[2] = -lowest;
-    return q;
-  }
-};
-
 TEST(IntegratorQuadruped, StandsWithEveryMethod) {
   for (const char* name : {"ne-pgm", "ne-zopgm", "pbd-pgm", "pbd-zopgm", "ne-mdp"}) {
     SCOPED_TRACE(name);
-    Quadruped robot;
+    test::QuadrupedOnPlane robot;
     IntegratorOptions options;
     options.method = *parseMethod(name);
     const double dt = options.method == Method::NeMdp ? 0.001 : 0.05;

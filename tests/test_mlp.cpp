@@ -10,6 +10,7 @@
 #include <random>
 #include <thread>
 
+#include "contact_models/finite_difference_derivative.hpp"
 #include "contact_models/mlp_function.hpp"
 #include "contact_models/mlp_model.hpp"
 #include "contact_models/planar_wrench_model.hpp"
@@ -477,20 +478,6 @@ std::vector<ContactFrame> testFrames(const Terrain& terrain = PlaneTerrain()) {
   return frames;
 }
 
-// Moves frame `c` along ξ_i by `eps`: a rotation about the sphere centre for i < 3 (link-fixed axes
-// turn), a translation for i ≥ 3.
-ContactFrame perturb(const ContactFrame& c, int i, double eps) {
-  ContactFrame out = c;
-  if (i < 3) {
-    const Eigen::AngleAxisd R(eps, Vec3::Unit(i));
-    out.leg_axis = R * c.leg_axis;
-    if (c.lateral_rotates) out.lateral = R * c.lateral;
-  } else {
-    out.position += eps * Vec3::Unit(i - 3);
-  }
-  return out;
-}
-
 class MlpModelTerrain : public ::testing::TestWithParam<int> {};
 
 TEST_P(MlpModelTerrain, DerivativeMatchesFiniteDifferences) {
@@ -510,8 +497,8 @@ TEST_P(MlpModelTerrain, DerivativeMatchesFiniteDifferences) {
         std::vector<ContactWrenches> plus(1), minus(1);
         plus[0].resize(K);
         minus[0].resize(K);
-        model.evaluate({perturb(frames[c], i, eps)}, terrain, plus, false);
-        model.evaluate({perturb(frames[c], i, -eps)}, terrain, minus, false);
+        model.evaluate({perturbedFrame(frames[c], i, eps)}, terrain, plus, false);
+        model.evaluate({perturbedFrame(frames[c], i, -eps)}, terrain, minus, false);
         const Mat6X fd = (plus[0].V - minus[0].V) / (2 * eps);
         EXPECT_LT(relativeError(out[c].dV[i], fd, 1.0), 1e-6)
             << mlpJacobianName(jacobian) << ", contact " << c << ", xi_" << i;

@@ -14,6 +14,7 @@
 #include <map>
 #include <sstream>
 
+#include "contact_models/finite_difference_derivative.hpp"
 #include "contact_models/planar_wrench_model.hpp"
 #include "contact_models/rbf_function.hpp"
 #include "contact_models/rbf_model.hpp"
@@ -429,19 +430,6 @@ INSTANTIATE_TEST_SUITE_P(All, RbfKernels,
 
 // ===== (d) the full dV/dξ against central finite differences ====================================
 
-// Rotation of the frame by ε about world axis i around the sphere centre, or translation along it.
-ContactFrame perturbed(const ContactFrame& frame, int i, double eps) {
-  ContactFrame out = frame;
-  if (i < 3) {
-    const Mat3 R = Eigen::AngleAxisd(eps, Vec3::Unit(i)).toRotationMatrix();
-    out.leg_axis = R * frame.leg_axis;
-    if (frame.lateral_rotates) out.lateral = R * frame.lateral;
-  } else {
-    out.position[i - 3] += eps;
-  }
-  return out;
-}
-
 // Evaluates all frames in one batch with derivatives and compares each dV/dξ_i with central
 // differences of the batch evaluation. Returns the worst relative error.
 double frameDerivativeError(const ContactModel& model, const std::vector<ContactFrame>& frames, const Terrain& terrain,
@@ -462,8 +450,8 @@ double frameDerivativeError(const ContactModel& model, const std::vector<Contact
     for (int i = 0; i < 6; ++i) scale = std::max(scale, out[c].dV[i].cwiseAbs().maxCoeff());
     for (int i = 0; i < 6; ++i) {
       std::vector<ContactFrame> fp = frames, fm = frames;
-      fp[c] = perturbed(frames[c], i, eps);
-      fm[c] = perturbed(frames[c], i, -eps);
+      fp[c] = perturbedFrame(frames[c], i, eps);
+      fm[c] = perturbedFrame(frames[c], i, -eps);
       model.evaluate(fp, terrain, plus, false);
       model.evaluate(fm, terrain, minus, false);
       const Mat6X numeric = (plus[c].V - minus[c].V) / (2 * eps);

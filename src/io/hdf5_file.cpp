@@ -1,26 +1,14 @@
 #include "io/hdf5_file.hpp"
 
-#include <hdf5.h>
-
 #include <cstdio>
 #include <filesystem>
 
+#include "io/hdf5_handle.hpp"
 #include "io/input_error.hpp"
 
 namespace nmdp::h5 {
 
 namespace {
-// HDF5 prints its own error stack by default; our messages replace it.
-void silenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
-
-struct Handle {  // closes any HDF5 identifier
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
-
 [[noreturn]] void fail(const std::string& file, const std::string& what) { throw InputError(file + ": " + what); }
 }  // namespace
 

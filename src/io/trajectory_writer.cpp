@@ -1,7 +1,5 @@
 #include "io/trajectory_writer.hpp"
 
-#include <hdf5.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,20 +8,14 @@
 #include <limits>
 #include <stdexcept>
 
+#include "io/hdf5_handle.hpp"
 #include "io/input_error.hpp"
 
 namespace nmdp {
 
 namespace {
-void silenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
-
-struct Handle {  // closes any HDF5 identifier
-  hid_t id;
-  herr_t (*close)(hid_t);
-  ~Handle() {
-    if (id >= 0) close(id);
-  }
-};
+using h5::Handle;
+using h5::silenceHdf5;
 
 hid_t variableString() {
   const hid_t type = H5Tcopy(H5T_C_S1);
