@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Set-up command 1 (the main job): install what is missing, build, and run the default demo: the
 # project's quadruped trotting on granular terrain for 10 s at dt = 50 ms
-# (models/scenes/quadruped_trot_sand.json: planar base, pbd-pgm, the hand-made sand model of
+# (models/scenes/quadruped_trot_sand.json: planar base, pbd-pgm, the RFT-fitted sand model of
 # data/granular/), written to demo/trot.h5 as it runs, and plotted to demo/trot.png (torso height
 # and forward distance against time, read back from the HDF5 file).
 set -euo pipefail

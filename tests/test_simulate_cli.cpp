@@ -386,12 +386,12 @@ TEST(SimulateCli, RoboSimianJumpsAndLandsUpright) {
   EXPECT_EQ(jumps, 5);
 }
 
-// ---- 1b. the default demo: the quadruped trots forward on the hand-made sand --------------------
+// ---- 1b. the default demo: the quadruped trots forward on the project's RFT-fitted sand ----------
 
 // The whole 10 s of models/scenes/quadruped_trot_sand.json (scripts/demo.sh runs it): the trot must
 // carry the robot forward at a steady pace without falling. Measured on the scene as shipped
-// (data/granular/README.md): 1.7 m in 10 s, every 2 s window 0.33-0.39 m, torso 0.78-1.0 of the
-// standing height. Before the friction-like drag and the higher steps the robot drifted backward
+// (data/granular/README.md): 1.35 m in 10 s, every 2 s window 0.26-0.27 m, torso 0.76-1.0 of the
+// standing height. With the first hand-made model and the default steps the robot drifted backward
 // (-0.23 m in 10 s, every 2 s window negative), which fails both forward checks below.
 TEST(SimulateCli, SandTrotMovesForwardSteadilyWithoutFalling) {
   const std::string scene = sceneFile("quadruped_trot_sand.json");
