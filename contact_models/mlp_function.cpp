@@ -495,6 +495,16 @@ void saveMlpModel(const std::string& path, const MlpParameters& p, const PlanarG
       !std::isfinite(geometry.torque_centre))
     throw std::invalid_argument("saveMlpModel(" + path + "): the geometry must be finite with cutoff_width > 0");
   h5::File file = h5::File::createAtomic(path);
+  writeMlpModel(file, p, geometry);
+  file.commit();
+}
+
+void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry& geometry) {
+  if (const std::string problem = mlpParameterProblem(p); !problem.empty())
+    throw std::invalid_argument("writeMlpModel(" + file.path() + "): " + problem);
+  if (!(geometry.cutoff_width > 0.0) || !std::isfinite(geometry.cutoff_width) || !std::isfinite(geometry.cutoff) ||
+      !std::isfinite(geometry.torque_centre))
+    throw std::invalid_argument("writeMlpModel(" + file.path() + "): the geometry must be finite with cutoff_width > 0");
   file.writeStringAttribute("/", "nmdp_model", "mlp");
   file.createGroup("/mlp");
   file.writeDoubleAttribute("/mlp", "format_version", kFormatVersion);
@@ -516,7 +526,6 @@ void saveMlpModel(const std::string& path, const MlpParameters& p, const PlanarG
     file.writeMatrix(layerName(i) + "/weight", p.layers[i].weight);
     file.writeVector(layerName(i) + "/bias", p.layers[i].bias);
   }
-  file.commit();
 }
 
 void saveMlpModel(const std::string& path, const MlpFunction& function, const PlanarGeometry& geometry) {

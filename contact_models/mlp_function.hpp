@@ -86,6 +86,10 @@
 
 namespace nmdp {
 
+namespace h5 {
+class File;
+}
+
 enum class MlpActivation { Tanh, Softplus, Silu };
 
 const char* mlpActivationName(MlpActivation activation);  // "tanh", "softplus", "silu"
@@ -171,5 +175,8 @@ MlpModelFile loadMlpModel(const std::string& path);
 // the file cannot be written.
 void saveMlpModel(const std::string& path, const MlpParameters& parameters, const PlanarGeometry& geometry);
 void saveMlpModel(const std::string& path, const MlpFunction& function, const PlanarGeometry& geometry);
+// Writes the model (the format above) into an open file, e.g. one that also gets the trainer's
+// /fit group (training/mlp_fit.hpp), which loadMlpModel ignores. Same checks as saveMlpModel.
+void writeMlpModel(h5::File& file, const MlpParameters& parameters, const PlanarGeometry& geometry);
 
 }  // namespace nmdp

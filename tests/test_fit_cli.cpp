@@ -1,6 +1,6 @@
 // `nmdp fit` end to end (issue 6): CSV → dataset → fit → a model file that the contact-model
 // registry and `nmdp simulate` load with no other step; the report on stdout and in the file;
-// `--model mlp` refused for now; bad data and bad configurations exit 1 with one line naming the
+// `--model mlp` trains an MLP that loads as {"type": "mlp"}; bad data and bad configurations exit 1 with one line naming the
 // file and the field.
 //  * Without ../shared: a dataset sampled from the project's hand-made sand model
 //    (data/granular/handmade_sand_rbf.h5) at its own centres, refitted with its kernel, scaling and
@@ -173,11 +173,65 @@ TEST(FitCli, SandSamplesThroughTheCliMatchThePublishedModel) {
   EXPECT_LT(largestRelativeDifference(*fitted, *published, 5), 0.01);
 }
 
-TEST(FitCli, MlpIsNotYetAvailable) {
+TEST(FitCli, MlpFitLoadsThroughTheRegistryAndSimulates) {
   TempDir dir;
-  expectFitError({"--data", "x.h5", "--model", "mlp", "--out", dir.file("m.h5")}, dir,
-                 {"--model mlp", "not yet available", "--model rbf"});
-  EXPECT_FALSE(fs::exists(dir.file("m.h5")));
+  const RbfModelFile original = readRbfHdf5(sourcePath("data/granular/handmade_sand_rbf.h5"));
+  const std::string data = dir.file("handmade_samples.h5");
+  writeForceDataset(data, sampleHandmadeModel(original));
+  const std::string config = dir.write(
+      "fit.json",
+      json{{"mlp", {{"width", 16}, {"max_epochs", 400}, {"learning_rate", 1e-2}, {"validation_fraction", 0.1}}},
+           {"geometry", {{"cutoff", original.geometry.cutoff}, {"cutoff_width", original.geometry.cutoff_width}}}}
+          .dump());
+  const std::string model = dir.file("mlp.h5");
+  const CliResult r = runNmdp({"fit", "--data", data, "--config", config, "--model", "mlp", "--out", model}, dir);
+  ASSERT_TRUE(r.exited);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  expectAll(r.out, {"MLP fit of " + data, "40 measured", "2-16-16-", "best epoch", "\"max_epochs\":400",
+                    "\"activation\":\"tanh\"", "wrote " + model});
+  EXPECT_TRUE(r.err.empty()) << "no progress line when stderr is not a terminal: " << r.err;
+  {
+    const h5::File f = h5::File::openRead(model);
+    EXPECT_EQ(f.readStringAttribute("/", "nmdp_model"), "mlp");
+    expectAll(f.readStringAttribute("/fit", "report"), {"MLP fit of", "relative to the largest wrench"});
+  }
+  // --quiet: only the last line.
+  const std::string quiet = dir.file("quiet.h5");
+  const CliResult q =
+      runNmdp({"fit", "--data", data, "--config", config, "--model", "mlp", "--out", quiet, "--quiet"}, dir);
+  ASSERT_EQ(q.exit_code, 0) << q.err;
+  EXPECT_EQ(q.out, "wrote " + quiet + "\n");
+
+  // The registry builds {"type": "mlp", "file": MODEL} and `nmdp simulate` runs the sand trot on it
+  // with only the model changed.
+  const std::unique_ptr<ContactModel> m = ContactModelRegistry::withBuiltins().build(
+      json{{"type", "mlp"}, {"file", model}}, ConfigContext{"test", ""});
+  EXPECT_EQ(m->vertexCount(), original.parameters.weights.cols() / 3);
+  const std::string run = dir.file("run.h5");
+  const CliResult sim = runNmdp({"simulate", sourcePath("models/scenes/quadruped_trot_sand.json"), "--set",
+                                 "contacts.model.type=mlp", "--set", "contacts.model.file=" + model, "--set",
+                                 "duration=0.5", "--quiet", "--out", run},
+                                dir);
+  ASSERT_TRUE(sim.exited);
+  EXPECT_EQ(sim.exit_code, 0) << sim.err;
+  EXPECT_EQ(TrajectoryWriter::readStatus(run), "complete");
+}
+
+TEST(FitCli, MlpBadSettingsExitOneNamingTheKey) {
+  TempDir dir;
+  const std::string data = dir.file("handmade_samples.h5");
+  writeForceDataset(data, sampleHandmadeModel(readRbfHdf5(sourcePath("data/granular/handmade_sand_rbf.h5"))));
+  const std::string out = dir.file("m.h5");
+  expectFitError({"--data", data, "--model", "mlp", "--config", R"({"mlp": {"max_epochs": 0}})", "--out", out}, dir,
+                 {"--config.mlp.max_epochs", "at least 1"});
+  expectFitError({"--data", data, "--model", "mlp", "--config", R"({"mlp": {"validation_fraction": 0.999}})", "--out",
+                  out},
+                 dir, {data, "mlp.validation_fraction", "no point is left to train on"});
+  expectFitError({"--data", data, "--model", "mlp", "--config", R"({"mlp": {"activation": "relu"}})", "--out", out},
+                 dir, {"--config.mlp.activation", "ReLU", "tanh, softplus or silu"});
+  expectFitError({"--data", data, "--model", "mlp", "--config", R"({"mlp": {"epochs": 10}})", "--out", out}, dir,
+                 {"--config.mlp.epochs", "unknown key"});
+  EXPECT_FALSE(fs::exists(out));
 }
 
 TEST(FitCli, BadInputExitsOneNamingTheFileAndField) {

@@ -1,6 +1,9 @@
 #include "training/fit_config.hpp"
 
+#include <algorithm>
+#include <cctype>
 #include <chrono>
+#include <cmath>
 
 #include "io/input_error.hpp"
 
@@ -9,6 +12,25 @@ namespace nmdp {
 namespace {
 [[noreturn]] void fail(const ConfigContext& ctx, const std::string& key, const std::string& what) {
   throw InputError(ctx.where + (key.empty() ? "" : "." + key) + ": " + what);
+}
+
+// The activation names of contact_models/mlp_function.hpp, repeated here: that file is in the
+// libtorch library and this one in the core (test_fit links the core only).
+const char* activationName(MlpActivation a) {
+  switch (a) {
+    case MlpActivation::Tanh: return "tanh";
+    case MlpActivation::Softplus: return "softplus";
+    case MlpActivation::Silu: return "silu";
+  }
+  return "?";
+}
+bool parseActivation(const std::string& name, MlpActivation* a) {
+  for (MlpActivation x : {MlpActivation::Tanh, MlpActivation::Softplus, MlpActivation::Silu})
+    if (name == activationName(x)) {
+      *a = x;
+      return true;
+    }
+  return false;
 }
 
 ConfigContext child(const ConfigContext& ctx, const std::string& key) { return {ctx.where + "." + key, ctx.base_dir}; }
@@ -22,7 +44,7 @@ const nlohmann::json& section(const nlohmann::json& config, const std::string& k
 }  // namespace
 
 FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx) {
-  requireKnownKeys(config, {"augmentation", "rbf", "geometry"}, ctx);
+  requireKnownKeys(config, {"augmentation", "rbf", "mlp", "geometry"}, ctx);
   FitConfig out;
 
   const ConfigContext actx = child(ctx, "augmentation");
@@ -68,6 +90,63 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   rbf.ridge = readNumber(r, "ridge", 0.0, rctx, 0.0);
   rbf.polynomial = readBool(r, "polynomial_tail", false, rctx);
 
+  const ConfigContext mctx = child(ctx, "mlp");
+  const nlohmann::json& m = section(config, "mlp", ctx);
+  requireKnownKeys(m,
+                   {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
+                    "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss", "relative_floor",
+                    "threads", "teacher_grid"},
+                   mctx);
+  MlpFitSettings& mlp = out.mlp;
+  mlp.hidden_layers = readInteger(m, "hidden_layers", mlp.hidden_layers, mctx, 0, 100);
+  mlp.width = readInteger(m, "width", mlp.width, mctx, 1, 100000);
+  const std::string activation = readString(m, "activation", activationName(mlp.activation), mctx);
+  if (!parseActivation(activation, &mlp.activation)) {
+    std::string lower = activation;
+    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+    if (lower.find("relu") != std::string::npos)
+      fail(mctx, "activation", "\"" + activation + "\" is not allowed: ReLU has a kink at 0 and the solver needs a "
+           "contact model that is at least C1; use tanh, softplus or silu");
+    fail(mctx, "activation", "unknown activation \"" + activation + "\"; valid activations: tanh, softplus, silu");
+  }
+  if (m.contains("max_epochs") && m.at("max_epochs").is_number() && m.at("max_epochs").get<double>() < 1)
+    fail(mctx, "max_epochs", "must be at least 1 (the number of passes over the training points), got " +
+                                 m.at("max_epochs").dump());
+  mlp.max_epochs = readInteger(m, "max_epochs", mlp.max_epochs, mctx, 1, 100000000);
+  mlp.learning_rate = readNumber(m, "learning_rate", mlp.learning_rate, mctx);
+  if (!(mlp.learning_rate > 0.0)) fail(mctx, "learning_rate", "must be > 0");
+  mlp.final_learning_rate = readNumber(m, "final_learning_rate", mlp.final_learning_rate, mctx);
+  if (!(mlp.final_learning_rate > 0.0)) fail(mctx, "final_learning_rate", "must be > 0");
+  mlp.batch_size = readInteger(m, "batch_size", mlp.batch_size, mctx, 0, 1000000000);
+  mlp.validation_fraction = readNumber(m, "validation_fraction", mlp.validation_fraction, mctx);
+  if (!(mlp.validation_fraction >= 0.0 && mlp.validation_fraction < 1.0))
+    fail(mctx, "validation_fraction",
+         "must be in [0, 1) (the share of the points held out for early stopping), got " +
+             m.at("validation_fraction").dump());
+  mlp.patience = readInteger(m, "patience", mlp.patience, mctx, 0, 100000000);
+  const double seed = readNumber(m, "seed", mlp.seed, mctx);
+  if (!(seed >= 0.0 && seed < 4294967296.0) || seed != std::floor(seed))
+    fail(mctx, "seed", "must be an integer in [0, 4294967295], got " + m.at("seed").dump());
+  mlp.seed = static_cast<std::uint32_t>(seed);
+  mlp.weight_decay = readNumber(m, "weight_decay", mlp.weight_decay, mctx, 0.0);
+  const std::string loss = readString(m, "loss", mlpLossName(mlp.loss), mctx);
+  if (loss == "relative")
+    mlp.loss = MlpLoss::Relative;
+  else if (loss == "mse")
+    mlp.loss = MlpLoss::Mse;
+  else
+    fail(mctx, "loss", "expected \"relative\" or \"mse\", got \"" + loss + "\"");
+  mlp.relative_floor = readNumber(m, "relative_floor", mlp.relative_floor, mctx);
+  if (!(mlp.relative_floor > 0.0)) fail(mctx, "relative_floor", "must be > 0");
+  mlp.threads = readInteger(m, "threads", mlp.threads, mctx, 1, 1024);
+  const std::vector<double> grid = readNumbers(m, "teacher_grid", {0.0, 0.0}, mctx);
+  if (grid.size() != 2 || grid[0] < 0 || grid[1] < 0 || grid[0] != std::floor(grid[0]) ||
+      grid[1] != std::floor(grid[1]) || grid[0] > 10000 || grid[1] > 10000 || ((grid[0] == 0) != (grid[1] == 0)))
+    fail(mctx, "teacher_grid",
+         "expected [n_phi, n_beta]: two integers >= 1 (the RBF teacher's grid), or [0, 0] for none, got " +
+             m.at("teacher_grid").dump());
+  mlp.teacher_grid = {static_cast<int>(grid[0]), static_cast<int>(grid[1])};
+
   const ConfigContext gctx = child(ctx, "geometry");
   const nlohmann::json& g = section(config, "geometry", ctx);
   requireKnownKeys(g, {"torque_centre", "cutoff", "cutoff_width"}, gctx);
@@ -79,7 +158,7 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   return out;
 }
 
-nlohmann::ordered_json fitConfigJson(const FitConfig& c, double torque_centre) {
+nlohmann::ordered_json fitConfigJson(const FitConfig& c, double torque_centre, const std::string& model) {
   nlohmann::ordered_json above;
   above["heights"] = c.augmentation.above_heights;
   if (c.augmentation.above_angles.empty())
@@ -91,29 +170,60 @@ nlohmann::ordered_json fitConfigJson(const FitConfig& c, double torque_centre) {
                          {"mirror", c.augmentation.mirror},
                          {"mirror_vertices", mirrorVerticesName(c.augmentation.mirror_vertices)},
                          {"above_surface", above}};
-  out["rbf"] = {{"kernel", rbfKernelName(c.rbf.spec.kernel)},
-                {"epsilon", c.rbf.spec.epsilon},
-                {"scaling", {c.rbf.spec.scaling[0], c.rbf.spec.scaling[1]}},
-                {"ridge", c.rbf.ridge},
-                {"polynomial_tail", c.rbf.polynomial}};
+  if (model == "mlp") {
+    const MlpFitSettings& m = c.mlp;
+    out["mlp"] = {{"hidden_layers", m.hidden_layers},
+                  {"width", m.width},
+                  {"activation", activationName(m.activation)},
+                  {"max_epochs", m.max_epochs},
+                  {"learning_rate", m.learning_rate},
+                  {"final_learning_rate", m.final_learning_rate},
+                  {"batch_size", m.batch_size},
+                  {"validation_fraction", m.validation_fraction},
+                  {"patience", m.patience},
+                  {"seed", m.seed},
+                  {"weight_decay", m.weight_decay},
+                  {"loss", mlpLossName(m.loss)},
+                  {"relative_floor", m.relative_floor},
+                  {"threads", m.threads},
+                  {"teacher_grid", {m.teacher_grid[0], m.teacher_grid[1]}}};
+    if (m.teacher_grid[0] > 0)
+      out["rbf"] = {{"kernel", rbfKernelName(c.rbf.spec.kernel)},
+                    {"epsilon", c.rbf.spec.epsilon},
+                    {"scaling", {c.rbf.spec.scaling[0], c.rbf.spec.scaling[1]}},
+                    {"ridge", c.rbf.ridge},
+                    {"polynomial_tail", c.rbf.polynomial}};
+  } else {
+    out["rbf"] = {{"kernel", rbfKernelName(c.rbf.spec.kernel)},
+                  {"epsilon", c.rbf.spec.epsilon},
+                  {"scaling", {c.rbf.spec.scaling[0], c.rbf.spec.scaling[1]}},
+                  {"ridge", c.rbf.ridge},
+                  {"polynomial_tail", c.rbf.polynomial}};
+  }
   out["geometry"] = {{"torque_centre", torque_centre}, {"cutoff", c.cutoff}, {"cutoff_width", c.cutoff_width}};
   return out;
+}
+
+PlanarGeometry resolveFitGeometry(const ForceDataset& data, const FitConfig& config, const std::string& data_name) {
+  PlanarGeometry g;
+  if (config.torque_centre)
+    g.torque_centre = *config.torque_centre;
+  else if (data.torque_centre)
+    g.torque_centre = *data.torque_centre;
+  else
+    throw InputError(data_name +
+                     ": the dataset has no torque_centre attribute: set geometry.torque_centre (m up "
+                     "the leg from the foot point, about which tau_y is taken) in the fit configuration");
+  g.cutoff = config.cutoff;
+  g.cutoff_width = config.cutoff_width;
+  return g;
 }
 
 RbfFitOutcome fitRbfToDataset(const ForceDataset& data, const FitConfig& config, const std::string& data_name) {
   const auto start = std::chrono::steady_clock::now();
   const PlanarPoints grouped = groupPlanarSamples(data, data_name);  // shape errors first
   RbfFitOutcome out;
-  if (config.torque_centre)
-    out.geometry.torque_centre = *config.torque_centre;
-  else if (data.torque_centre)
-    out.geometry.torque_centre = *data.torque_centre;
-  else
-    throw InputError(data_name +
-                     ": the dataset has no torque_centre attribute: set geometry.torque_centre (m up "
-                     "the leg from the foot point, about which tau_y is taken) in the fit configuration");
-  out.geometry.cutoff = config.cutoff;
-  out.geometry.cutoff_width = config.cutoff_width;
+  out.geometry = resolveFitGeometry(data, config, data_name);
 
   RbfFitRecord& r = out.record;
   r.points = augment(grouped, config.augmentation);

@@ -1,6 +1,8 @@
 // The settings of `nmdp fit` (FIT.json). Every key is optional; unknown keys are an InputError
 // naming the closest valid key. Defaults: no augmentation, a thin-plate RBF with the published
-// scaling diag(5, 1), no ridge, no tail, the published model's cut-off.
+// scaling diag(5, 1), no ridge, no tail, the published model's cut-off; for --model mlp a
+// 2-64-64-3K tanh network trained by full-batch Adam (training/mlp_fit.hpp). The "rbf" section is
+// used by --model rbf (and by the MLP's optional teacher grid), the "mlp" section by --model mlp only.
 //
 //   {
 //     "augmentation": {
@@ -19,6 +21,27 @@
 //       "ridge": 0,                   λ ≥ 0 on the kernel matrix's diagonal (0 = interpolation)
 //       "polynomial_tail": false      the linear tail a + b φ + c β
 //     },
+//     "mlp": {                        training/mlp_fit.hpp
+//       "hidden_layers": 2,           L ≥ 0 hidden layers ...
+//       "width": 64,                  ... of this many units (≥ 1)
+//       "activation": "tanh",         tanh, softplus or silu (never ReLU: the solver needs C¹)
+//       "max_epochs": 5000,           ≥ 1 passes over the training points
+//       "learning_rate": 1e-2,        Adam's step at the first epoch (> 0) ...
+//       "final_learning_rate": 1e-5,  ... decaying exponentially to this at max_epochs (> 0)
+//       "batch_size": 0,              points per Adam step; 0 = full batch
+//       "validation_fraction": 0.1,   in [0, 1): points held out (per origin) for early stopping
+//       "patience": 1000,             stop after this many epochs without a better validation
+//                                     loss, keeping the best weights; 0 = run all epochs
+//       "seed": 1,                    0 ≤ seed < 2³²: initialization, split and batch order
+//       "weight_decay": 0,            ≥ 0, Adam's L2 penalty
+//       "loss": "relative",           or "mse" (see mlp_fit.hpp)
+//       "relative_floor": 0.05,       > 0: the relative loss divides by at least this × the largest
+//                                     wrench of all points
+//       "threads": 1,                 libtorch threads (≥ 1); 1 makes the result bit-reproducible
+//       "teacher_grid": [0, 0]        [n_φ, n_β] ≥ 1: also train on the "rbf" section's RBF through
+//                                     the same points, sampled on this grid over the points at or
+//                                     below the surface; [0, 0] = no teacher (mlp_fit.hpp)
+//     },
 //     "geometry": {                   stored in the model file (planar_wrench_model.hpp)
 //       "torque_centre": "data",      m up the leg; "data" = the dataset's (an error if it has none)
 //       "cutoff": 0.1,                m: zero wrench for φ ≥ cutoff
@@ -32,6 +55,7 @@
 #include "contact_models/planar_wrench_model.hpp"
 #include "io/json_params.hpp"
 #include "training/augmentation.hpp"
+#include "training/mlp_fit.hpp"
 #include "training/rbf_fit.hpp"
 
 namespace nmdp {
@@ -39,6 +63,7 @@ namespace nmdp {
 struct FitConfig {
   AugmentationSettings augmentation;
   RbfFitSettings rbf;
+  MlpFitSettings mlp;
   std::optional<double> torque_centre;  // none: the dataset's
   double cutoff = 0.1;
   double cutoff_width = 0.02;
@@ -49,8 +74,12 @@ struct FitConfig {
 FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx);
 
 // Every key with the value in use (torque_centre resolved to the number stored); parses back to
-// the same FitConfig.
-nlohmann::ordered_json fitConfigJson(const FitConfig& config, double torque_centre);
+// the same FitConfig. `model` ("rbf" or "mlp") picks the section of the model fitted.
+nlohmann::ordered_json fitConfigJson(const FitConfig& config, double torque_centre, const std::string& model = "rbf");
+
+// The geometry stored in the model file: the configuration's torque centre, else the dataset's
+// (an InputError naming the data when neither has one), the cut-off and its band.
+PlanarGeometry resolveFitGeometry(const ForceDataset& data, const FitConfig& config, const std::string& data_name);
 
 // The whole RBF pipeline on a dataset: group by point, augment, fit, with the settings and the
 // timing recorded. `data_name` names the data in messages and the record. Throws InputError for

@@ -1,31 +1,39 @@
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "app/progress_bar.hpp"
 #include "io/input_error.hpp"
 #include "io/json_params.hpp"
 #include "training/fit_config.hpp"
 #include "training/force_dataset.hpp"
+#include "training/mlp_fit.hpp"
 
 namespace nmdp::app {
 
 const char* const kFitHelp =
-    "usage: nmdp fit --data DATA --model rbf [--config FIT.json] --out MODEL.h5 [--quiet]\n"
+    "usage: nmdp fit --data DATA --model rbf|mlp [--config FIT.json] --out MODEL.h5 [--quiet]\n"
     "       nmdp fit --import-csv FOLDER --out DATA.h5\n\n"
     "Fits a wrench-space contact model to force data (DESIGN.md §9; training/README.md) and writes a\n"
-    "model file that 'nmdp simulate' loads as {\"type\": \"rbf\", \"file\": \"MODEL.h5\"}. After the fit a\n"
-    "report (settings, leave-one-point-out error per vertex relative to the largest wrench at each\n"
-    "point) is printed and stored in the model file (/fit).\n\n"
+    "model file that 'nmdp simulate' loads as {\"type\": \"rbf\", \"file\": \"MODEL.h5\"} (--model rbf) or\n"
+    "{\"type\": \"mlp\", \"file\": \"MODEL.h5\"} (--model mlp). After the fit a report is printed and stored\n"
+    "in the model file (/fit): for the RBF the settings and the leave-one-point-out error per vertex, for\n"
+    "the MLP the settings, epochs, losses and the validation error per vertex, both relative to the\n"
+    "largest wrench at each point. MLP training shows a progress line on stderr when it is a terminal.\n\n"
     "  --data DATA         a force dataset (HDF5, training/force_dataset.hpp) or a folder in the CSV\n"
     "                      layout of granular/sand_samples (features.csv, wrench_samples.csv, scalars.txt)\n"
-    "  --model rbf|mlp     the model to fit; mlp is not yet available\n"
-    "  --config FIT.json   augmentation, kernel, scaling, ridge, polynomial tail, geometry, as a file\n"
-    "                      or an inline JSON object\n"
-    "                      (training/fit_config.hpp; default: no augmentation, thin-plate, diag(5, 1))\n"
+    "  --model rbf|mlp     the model to fit: an RBF interpolant or a libtorch MLP (training/mlp_fit.hpp)\n"
+    "  --config FIT.json   augmentation, rbf (kernel, scaling, ridge, tail), mlp (layers, width,\n"
+    "                      activation, epochs, learning rate, validation, seed, ...), geometry, as a\n"
+    "                      file or an inline JSON object (training/fit_config.hpp; default: no\n"
+    "                      augmentation, thin-plate diag(5, 1); MLP 2-64-64-3K tanh, Adam)\n"
     "  --out FILE.h5       the model file (or, with --import-csv, the dataset file) to write\n"
-    "  --quiet             do not print the report\n"
+    "  --quiet             no report and no progress line\n"
     "  --import-csv FOLDER convert a sand_samples-layout folder to a force dataset and stop\n";
 
 namespace {
@@ -50,6 +58,57 @@ nlohmann::json readConfig(const std::string& path, ConfigContext& ctx) {
     throw InputError(path + ": not valid JSON: " + e.what());
   }
 }
+
+// The MLP training progress: one line redrawn in place with '\r' (at most 10 times a second),
+// "epoch 1200/20000 [=====     ] train 1.2e-04 val 3.4e-04 best 1100 (3.1e-04) lr 1.0e-03 2.3 s".
+// Disabled (nothing written) when the stream is not a terminal or with --quiet (ProgressBar's rule).
+class TrainingLine {
+ public:
+  TrainingLine(std::FILE* stream, bool enabled) : stream_(stream), enabled_(enabled) {}
+  ~TrainingLine() { finish(); }
+  void update(const MlpEpochStatus& st) {
+    if (!enabled_) return;
+    last_ = st;
+    if (drawn_ && st.seconds - last_draw_ < ProgressBar::kMinRedrawInterval && st.epoch < st.max_epochs) return;
+    last_draw_ = st.seconds;
+    draw();
+  }
+  void finish() {
+    if (!enabled_ || !drawn_) return;
+    draw();
+    std::fputc('\n', stream_);
+    std::fflush(stream_);
+    drawn_ = false;
+    enabled_ = false;
+  }
+
+ private:
+  void draw() {
+    constexpr int kWidth = 20;
+    const int filled = last_.max_epochs > 0 ? kWidth * last_.epoch / last_.max_epochs : 0;
+    char line[256];
+    const std::string bar = std::string(filled, '=') + std::string(kWidth - filled, ' ');
+    int n;
+    if (std::isnan(last_.validation_loss))
+      n = std::snprintf(line, sizeof line, "epoch %d/%d [%s] train %.2e best %d (%.2e) lr %.1e %.1f s", last_.epoch,
+                        last_.max_epochs, bar.c_str(), last_.train_loss, last_.best_epoch, last_.best_loss,
+                        last_.learning_rate, last_.seconds);
+    else
+      n = std::snprintf(line, sizeof line, "epoch %d/%d [%s] train %.2e val %.2e best %d (%.2e) lr %.1e %.1f s",
+                        last_.epoch, last_.max_epochs, bar.c_str(), last_.train_loss, last_.validation_loss,
+                        last_.best_epoch, last_.best_loss, last_.learning_rate, last_.seconds);
+    std::fprintf(stream_, "\r%s%*s", line, std::max(0, length_ - n), "");
+    std::fflush(stream_);
+    length_ = n;
+    drawn_ = true;
+  }
+  std::FILE* stream_;
+  bool enabled_;
+  bool drawn_ = false;
+  double last_draw_ = 0.0;
+  int length_ = 0;
+  MlpEpochStatus last_;
+};
 
 // A dataset file, or a sand_samples-layout folder imported on the fly.
 ForceDataset loadData(const std::string& path) {
@@ -96,11 +155,8 @@ int runFit(const Args& args) {
   }
 
   if (data.empty()) throw InputError("--data is required (see nmdp fit --help)");
-  if (model.empty()) throw InputError("--model is required: rbf (see nmdp fit --help)");
-  if (model == "mlp")
-    throw InputError(
-        "--model mlp: MLP training is not yet available in this version; fit an RBF model with --model rbf");
-  if (model != "rbf") throw InputError("--model: expected rbf or mlp, got '" + model + "'");
+  if (model.empty()) throw InputError("--model is required: rbf or mlp (see nmdp fit --help)");
+  if (model != "rbf" && model != "mlp") throw InputError("--model: expected rbf or mlp, got '" + model + "'");
 
   FitConfig fit_config;
   if (!config.empty()) {
@@ -109,6 +165,16 @@ int runFit(const Args& args) {
     fit_config = parseFitConfig(json, ctx);
   }
   const ForceDataset dataset = loadData(data);
+  if (model == "mlp") {
+    TrainingLine line(stderr, ProgressBar::shouldShow(stderr, quiet));
+    const MlpFitOutcome fit =
+        fitMlpToDataset(dataset, fit_config, data, [&](const MlpEpochStatus& st) { line.update(st); });
+    line.finish();
+    saveMlpFit(out, fit.record, fit.geometry);
+    if (!quiet) std::cout << formatMlpFitReport(fit.record);
+    std::cout << "wrote " << out << "\n";
+    return 0;
+  }
   const RbfFitOutcome fit = fitRbfToDataset(dataset, fit_config, data);
   saveRbfFit(out, fit.record, fit.geometry);
   if (!quiet) std::cout << formatRbfFitReport(fit.record);

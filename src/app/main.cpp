@@ -16,7 +16,7 @@ struct Command {
 const Command kCommands[] = {
     {"simulate", "simulate a scene (robot, contacts, terrain, method, gait) and write the run to HDF5",
      nmdp::app::runSimulate, &nmdp::app::kSimulateHelp},
-    {"fit", "fit a wrench-space contact model (RBF) to force data and report its leave-one-out error",
+    {"fit", "fit a wrench-space contact model (RBF or MLP) to force data and report its error",
      nmdp::app::runFit, &nmdp::app::kFitHelp},
     {"inspect", "summarize a robot description (dof, joints, mass, links, feet) as JSON", nmdp::app::runInspect,
      &nmdp::app::kInspectHelp},

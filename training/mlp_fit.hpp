@@ -1,0 +1,156 @@
+// MLP fitting of planar wrench spaces (DESIGN.md §7.3, §9): a multilayer perceptron of
+// contact_models/mlp_function.hpp trained with libtorch on the augmented points of a force dataset
+// (the same points the RBF fit interpolates: groupPlanarSamples + augment), so the result is an
+// MlpFunction that the "mlp" contact model loads as it is.
+//
+// Training (fitMlp):
+//   * normalization, stored in the model: input_mean/input_std = mean and standard deviation of
+//     (φ, β) over the training points with a non-zero wrench (all training points if fewer than 2
+//     have one: the zero-wrench points up to 1 m above the surface would squeeze the few cm of depth
+//     into a sliver of the normalized input); output_offset/output_scale = mean and standard deviation of
+//     each of the 3K outputs over the training points (scale 1 where an output is constant), so the
+//     network fits values of order 1;
+//   * split by feature point, stratified by origin (measured, mirrored, above the surface): of each
+//     origin's points round(validation_fraction · count) go to validation, picked by a Fisher–Yates
+//     shuffle driven by std::mt19937(seed) (portable: rng() % n, not std::shuffle);
+//   * the network starts from randomMlpParameters(hidden_layers, width, K, activation, seed) (torch's
+//     default initialization, reproducible on every platform); torch::manual_seed(seed) is set too,
+//     though nothing in the trainer draws from torch's generator;
+//   * the loss: the mean over the training points and outputs of
+//         ((W_fit − W_data)_c / s_i)²,   s_i = max(largest |W_data| entry at point i, relative_floor · S)
+//     with S the largest |W_data| entry of the training points ("relative", the default: the error relative to
+//     the largest wrench at the point, what the report and the acceptance measure; the floor keeps the
+//     zero-wrench points above the surface from dominating), or ((W_fit − W_data)_c / output_scale_c)²
+//     ("mse": plain mean squared error of the normalized outputs);
+//   * Adam (torch::optim::Adam, weight_decay as Adam's L2 term), in float64, full batch
+//     (batch_size 0) or mini-batches reshuffled every epoch by the same std::mt19937; the learning
+//     rate decays exponentially from learning_rate to final_learning_rate over max_epochs;
+//   * teacher grid (optional, mlp.teacher_grid [n_φ, n_β], off by default): the RBF of the "rbf"
+//     section (rbf_fit.hpp) is fitted to the training points (not the validation points) and sampled on an n_φ × n_β grid
+//     over the box of the training points at or below the surface; these samples are added to the training
+//     set (never to validation). A network trained on ~100 scattered points alone interpolates
+//     between them quite differently from a thin-plate spline (training/README.md has the numbers);
+//     the teacher pins it to the smooth interpolant in between;
+//   * early stopping: after every epoch the loss on the validation points; the weights of the best
+//     epoch are kept and restored at the end; training stops after `patience` epochs without a new
+//     best (0: never early). Without validation points (validation_fraction 0) "best" is the lowest
+//     training loss (evaluated after the epoch's step on the whole training set).
+// Determinism: with the same data and settings the result is identical bit for bit (the tests write
+// the model twice and compare the files) as long as libtorch runs on one thread (threads = 1, the
+// default; more threads may change the summation order of the BLAS and so the last bits).
+// fitMlp sets torch::set_num_threads(threads) and resets it to 1 on return, the convention of
+// mlp_function.hpp. The library never prints: progress goes to an optional callback.
+#pragma once
+#include <Eigen/Dense>
+#include <array>
+#include <cstdint>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "contact_models/mlp_function.hpp"
+#include "training/augmentation.hpp"
+
+namespace nmdp {
+
+enum class MlpLoss { Relative, Mse };
+inline const char* mlpLossName(MlpLoss loss) { return loss == MlpLoss::Mse ? "mse" : "relative"; }
+
+// The "mlp" section of FIT.json (training/fit_config.hpp has the defaults and the keys).
+struct MlpFitSettings {
+  int hidden_layers = 2;
+  int width = 64;
+  MlpActivation activation = MlpActivation::Tanh;
+  int max_epochs = 5000;
+  double learning_rate = 1e-2;
+  double final_learning_rate = 1e-5;
+  int batch_size = 0;  // 0 = full batch
+  double validation_fraction = 0.1;
+  int patience = 1000;  // epochs without a new best validation loss; 0 = no early stopping
+  std::uint32_t seed = 1;
+  double weight_decay = 0.0;
+  MlpLoss loss = MlpLoss::Relative;
+  double relative_floor = 0.05;
+  int threads = 1;
+  std::array<int, 2> teacher_grid{0, 0};  // n_φ × n_β RBF samples added to the training set; 0 = none
+};
+
+// What the callback sees after every epoch (1-based epochs).
+struct MlpEpochStatus {
+  int epoch = 0, max_epochs = 0;
+  double train_loss = 0.0;       // on the training points, after the epoch's steps
+  double validation_loss = 0.0;  // NaN without validation points
+  int best_epoch = 0;
+  double best_loss = 0.0;  // the loss that picks the best epoch (validation, else training)
+  double learning_rate = 0.0;
+  double seconds = 0.0;  // since the start of training
+};
+using MlpProgress = std::function<void(const MlpEpochStatus&)>;
+
+struct MlpFit {
+  MlpParameters parameters;         // the best epoch's weights with the normalization
+  std::vector<bool> validation;     // P: the point was held out
+  int epochs = 0;                   // epochs run
+  int best_epoch = 0;               // whose weights were kept (0: the initial network)
+  bool stopped_early = false;       // patience ran out before max_epochs
+  double train_loss = 0.0;          // of the kept weights
+  double validation_loss = 0.0;     // of the kept weights; NaN without validation points
+  Eigen::MatrixX2d history;         // epochs × 2: training and validation loss of every epoch
+  Eigen::MatrixXd error;            // P×3K: W_fit − W_data at every point (training and validation)
+  Eigen::MatrixXd relative;         // P×K: max over (F_x, F_z, τ_y) of |error| / point_scale
+  Eigen::VectorXd point_scale;      // P: the largest |W_data| entry at the point (of all at zero points)
+  int teacher_samples = 0;          // extra training samples (teacher grid)
+};
+
+// Trains a network on the points. Throws InputError "`where`: mlp.KEY ..." when the settings leave
+// no training point (validation_fraction too large for the number of points) or fewer than 2 points
+// are given, std::invalid_argument on settings parseFitConfig rejects (zero epochs, a width < 1...).
+// `teacher_rbf`: the RBF settings of the teacher grid (settings.teacher_grid; default RbfFitSettings
+// when null). The teacher RBF is fitted to the training points only, so validation stays unseen.
+struct RbfFitSettings;
+MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& settings, const std::string& where,
+              const MlpProgress& progress = {}, const RbfFitSettings* teacher_rbf = nullptr);
+
+// What a fit records, as RbfFitRecord does for the RBF.
+struct MlpFitRecord {
+  nlohmann::ordered_json settings;  // every key with the value used (fitConfigJson(..., "mlp"))
+  PlanarPoints points;
+  MlpFit fit;
+  std::string data;
+  double seconds = 0;  // wall time of augmentation and training
+};
+
+// The report printed after a fit and stored in the model file: the settings, the sizes (points by
+// origin, training/validation, network, parameters), the epochs, the losses and the error per vertex
+// relative to the largest wrench at each point: largest and RMS over the validation points, largest
+// over the training points, the worst point; then the worst validation points.
+std::string formatMlpFitReport(const MlpFitRecord& record);
+
+// Writes the model file of contact_models/mlp_function.hpp, which the "mlp" contact model loads as
+// it is, plus a group /fit (ignored by loadMlpModel):
+//   /fit                attributes: data, settings (JSON text), report (text), seconds, epochs,
+//                       best_epoch, train_loss, validation_loss
+//   /fit/points         P×2 float64 (φ, β), the augmented points
+//   /fit/origin         P int64: 0 measured, 1 mirrored, 2 above the surface
+//   /fit/validation     P int64: 1 held out for validation, 0 trained on
+//   /fit/values         P×3K float64, the data fitted
+//   /fit/error          P×3K float64, the fit minus the data
+//   /fit/relative_error P×K float64, relative to the largest wrench at the point
+//   /fit/history        epochs × 2 float64, training and validation loss per epoch
+// Atomically (path + ".partial", renamed on success).
+void saveMlpFit(const std::string& path, const MlpFitRecord& record, const PlanarGeometry& geometry);
+
+// The whole MLP pipeline on a dataset, as fitRbfToDataset (fit_config.hpp) for the RBF: group by
+// point, augment, train with config.mlp, with the settings and the timing recorded. Throws
+// InputError for bad data (groupPlanarSamples), a missing torque centre, or settings that leave no
+// training point.
+struct FitConfig;
+struct MlpFitOutcome {
+  MlpFitRecord record;
+  PlanarGeometry geometry;
+};
+MlpFitOutcome fitMlpToDataset(const ForceDataset& data, const FitConfig& config, const std::string& data_name,
+                              const MlpProgress& progress = {});
+
+}  // namespace nmdp
