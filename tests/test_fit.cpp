@@ -17,6 +17,7 @@
 
 #include "contact_models/rbf_function.hpp"
 #include "io/hdf5_file.hpp"
+#include "fit_fixtures.hpp"
 #include "test_support.hpp"
 #include "test_temp_dir.hpp"
 #include "training/augmentation.hpp"
@@ -30,42 +31,7 @@ namespace {
 const char* kSandSamples = "granular/sand_samples";
 const char* kSandModel = "granular/robosimian_sand_rbf";
 
-void expectAll(const std::string& message, const std::vector<std::string>& parts) {
-  for (const std::string& p : parts)
-    EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' not in: " << message;
-}
-
-FitConfig publishedFitConfig() {
-  const std::string path = sourcePath("data/granular/sand_rbf_fit.json");
-  std::ifstream in(path);
-  return parseFitConfig(nlohmann::json::parse(in), {path, ""});
-}
-
-// A planar dataset: P points on a grid, K vertices, smooth made-up wrenches.
-ForceDataset syntheticDataset(int K, const std::vector<double>& phis, const std::vector<double>& betas) {
-  ForceDataset d;
-  const int P = static_cast<int>(phis.size() * betas.size());
-  d.features.resize(P * K, 2);
-  d.vertex.resize(P * K);
-  d.wrench.resize(P * K, 3);
-  int row = 0;
-  for (double phi : phis)
-    for (double beta : betas)
-      for (int v = 0; v < K; ++v, ++row) {
-        d.features.row(row) << phi, beta;
-        d.vertex[row] = v;
-        const double depth = std::max(0.0, -phi);
-        d.wrench.row(row) << depth * 100 * std::sin(v + beta), depth * 1000 * (1.5 + std::cos(v - beta)),
-            depth * std::cos(3 * v + beta);
-      }
-  d.feature_names = {"phi", "beta"};
-  d.feature_units = {"m", "rad"};
-  d.wrench_names = {"F_x", "F_z", "tau_y"};
-  d.wrench_units = {"N", "N", "N m"};
-  d.source = "synthetic";
-  d.torque_centre = 0.05;
-  return d;
-}
+FitConfig publishedFitConfig() { return fitConfigFile("data/granular/sand_rbf_fit.json"); }
 
 // Writes a dataset file field by field, to plant bad values the writer would refuse.
 void writeRawDataset(const std::string& path, const Eigen::MatrixXd& features, const Eigen::VectorXi& vertex,

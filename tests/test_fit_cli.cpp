@@ -17,6 +17,8 @@
 #include "io/trajectory_writer.hpp"
 #include "terrain/plane.hpp"
 #include "test_cli.hpp"
+#include "fit_fixtures.hpp"
+#include "planar_foot.hpp"
 #include "test_support.hpp"
 #include "training/force_dataset.hpp"
 
@@ -24,11 +26,6 @@ namespace nmdp::test {
 namespace {
 namespace fs = std::filesystem;
 using json = nlohmann::json;
-
-void expectAll(const std::string& message, const std::vector<std::string>& parts) {
-  for (const std::string& p : parts)
-    EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' not in: " << message;
-}
 
 // Bad input: exit code 1, one stderr line "nmdp fit: error: ..." with every string of `expect`.
 void expectFitError(const std::vector<std::string>& args, const TempDir& dir, const std::vector<std::string>& expect) {
@@ -80,13 +77,8 @@ double largestRelativeDifference(const ContactModel& a, const ContactModel& refe
   const PlaneTerrain ground;
   double worst = 0.0;
   for (int n = 0; n < 200; ++n) {
-    ContactFrame frame;
-    frame.radius = 0.02;
-    const double t = tilt(rng);
-    frame.position = Vec3(0.1, 0.0, frame.radius + depth(rng));
-    frame.leg_axis = Vec3(std::sin(t), 0.0, std::cos(t));
-    frame.lateral = Vec3::UnitY();
-    std::vector<ContactFrame> frames{frame};
+    const double t = tilt(rng);  // drawn before the depth, as the frames always were
+    std::vector<ContactFrame> frames{planarFoot(0.02, depth(rng), t, 0.1)};
     std::vector<ContactWrenches> va(1), vr(1);
     va[0].resize(a.vertexCount());
     vr[0].resize(reference.vertexCount());

@@ -19,6 +19,7 @@
 #include "contact_models/rbf_function.hpp"
 #include "contact_models/rbf_model.hpp"
 #include "terrain/plane.hpp"
+#include "planar_foot.hpp"
 #include "test_support.hpp"
 
 namespace nmdp::test {
@@ -34,16 +35,7 @@ std::unique_ptr<ContactModel> loadModel() {
   return makeRbfModel({{"type", "rbf"}, {"file", kModelFile}}, ctx);
 }
 
-// A foot sphere whose lowest point is `depth` from the plane z = 0 (negative below), its leg tilted
-// by `angle` from the normal toward +x, as `nmdp wrench` places it.
-ContactFrame foot(double depth, double angle) {
-  ContactFrame f;
-  f.radius = kFootRadius;
-  f.position = Vec3(0.0, 0.0, kFootRadius + depth);
-  f.leg_axis = Vec3(std::sin(angle), 0.0, std::cos(angle));
-  f.lateral = Vec3::UnitY();
-  return f;
-}
+ContactFrame foot(double depth, double angle) { return planarFoot(kFootRadius, depth, angle); }
 
 ContactWrenches evaluate(const ContactModel& model, const ContactFrame& frame, bool derivatives = false) {
   const PlaneTerrain ground;

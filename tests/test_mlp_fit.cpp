@@ -22,6 +22,8 @@
 #include "contact_models/registry.hpp"
 #include "io/hdf5_file.hpp"
 #include "terrain/plane.hpp"
+#include "fit_fixtures.hpp"
+#include "planar_foot.hpp"
 #include "test_support.hpp"
 #include "test_temp_dir.hpp"
 #include "training/fit_config.hpp"
@@ -31,43 +33,6 @@
 namespace nmdp::test {
 namespace {
 using json = nlohmann::json;
-
-void expectAll(const std::string& message, const std::vector<std::string>& parts) {
-  for (const std::string& p : parts)
-    EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' not in: " << message;
-}
-
-FitConfig configFile(const std::string& rel) {
-  const std::string path = sourcePath(rel);
-  std::ifstream in(path);
-  return parseFitConfig(json::parse(in), {path, ""});
-}
-
-// A planar dataset: P points on a grid, K vertices, smooth made-up wrenches (as in test_fit.cpp).
-ForceDataset syntheticDataset(int K, const std::vector<double>& phis, const std::vector<double>& betas) {
-  ForceDataset d;
-  const int P = static_cast<int>(phis.size() * betas.size());
-  d.features.resize(P * K, 2);
-  d.vertex.resize(P * K);
-  d.wrench.resize(P * K, 3);
-  int row = 0;
-  for (double phi : phis)
-    for (double beta : betas)
-      for (int v = 0; v < K; ++v, ++row) {
-        d.features.row(row) << phi, beta;
-        d.vertex[row] = v;
-        const double depth = std::max(0.0, -phi);
-        d.wrench.row(row) << depth * 100 * std::sin(v + beta), depth * 1000 * (1.5 + std::cos(v - beta)),
-            depth * std::cos(3 * v + beta);
-      }
-  d.feature_names = {"phi", "beta"};
-  d.feature_units = {"m", "rad"};
-  d.wrench_names = {"F_x", "F_z", "tau_y"};
-  d.wrench_units = {"N", "N", "N m"};
-  d.source = "synthetic";
-  d.torque_centre = 0.05;
-  return d;
-}
 
 ForceDataset smallDataset() { return syntheticDataset(4, {-0.04, -0.03, -0.02, -0.01, 0.0}, {-0.6, -0.3, 0.0, 0.3, 0.6}); }
 
@@ -94,7 +59,7 @@ TEST(MlpFitAcceptance, DISABLED_SandSamplesWithinTenPercentOfThePublishedModel) 
   NMDP_REQUIRE_SHARED("granular/sand_samples");
   NMDP_REQUIRE_SHARED("granular/robosimian_sand_rbf");
   const ForceDataset data = importSandSamplesCsv(sharedPath("granular/sand_samples"));
-  const FitConfig config = configFile("data/granular/sand_mlp_fit.json");
+  const FitConfig config = fitConfigFile("data/granular/sand_mlp_fit.json");
   const MlpFitOutcome fit = fitMlpToDataset(data, config, "sand_samples");
   EXPECT_EQ(fit.record.points.pointCount(), 103) << "the published model's 103 points";
   std::cout << formatMlpFitReport(fit.record);
@@ -222,13 +187,8 @@ TEST(MlpFit, ModelFileLoadsThroughTheRegistryAndMatchesTheTrainer) {
   std::mt19937 rng(3);
   std::uniform_real_distribution<double> depth(-0.04, 0.0), tilt(-0.6, 0.6);
   for (int n = 0; n < 50; ++n) {
-    ContactFrame frame;
-    frame.radius = 0.02;
-    const double t = tilt(rng);
-    frame.position = Vec3(0.1, 0.0, frame.radius + depth(rng));
-    frame.leg_axis = Vec3(std::sin(t), 0.0, std::cos(t));
-    frame.lateral = Vec3::UnitY();
-    std::vector<ContactFrame> frames{frame};
+    const double t = tilt(rng);  // drawn before the depth, as the frames always were
+    std::vector<ContactFrame> frames{planarFoot(0.02, depth(rng), t, 0.1)};
     std::vector<ContactWrenches> a(1), b(1);
     a[0].resize(4);
     b[0].resize(4);
@@ -367,7 +327,7 @@ TEST(MlpFitBadSettings, NameTheConfigurationKey) {
 }
 
 TEST(MlpFitConfig, SettingsJsonParsesBackToTheSameSettings) {
-  FitConfig c = configFile("data/granular/sand_mlp_fit.json");
+  FitConfig c = fitConfigFile("data/granular/sand_mlp_fit.json");
   const json j = json::parse(fitConfigJson(c, 0.1572, "mlp").dump());
   for (const char* key : {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
                           "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss",

@@ -31,6 +31,7 @@
 #include "io/trajectory_writer.hpp"
 #include "terrain/plane.hpp"
 #include "test_cli.hpp"
+#include "planar_foot.hpp"
 #include "test_support.hpp"
 
 namespace nmdp::test {
@@ -105,16 +106,7 @@ std::unique_ptr<ContactModel> loadModel(const std::string& path) {
   return makeRbfModel({{"type", "rbf"}, {"file", path}}, ctx);
 }
 
-// A foot sphere whose lowest point is `depth` from the plane z = 0 (negative below), its leg tilted
-// by `angle` from the normal toward +x, as `nmdp wrench` places it.
-ContactFrame foot(double depth, double angle) {
-  ContactFrame f;
-  f.radius = kFootRadius;
-  f.position = Vec3(0.0, 0.0, kFootRadius + depth);
-  f.leg_axis = Vec3(std::sin(angle), 0.0, std::cos(angle));
-  f.lateral = Vec3::UnitY();
-  return f;
-}
+ContactFrame foot(double depth, double angle) { return planarFoot(kFootRadius, depth, angle); }
 
 ContactWrenches evaluate(const ContactModel& model, const ContactFrame& frame, bool derivatives) {
   const PlaneTerrain ground;

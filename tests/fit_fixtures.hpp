@@ -1,0 +1,59 @@
+// Shared by the fitting tests (test_fit, test_mlp_fit, test_fit_cli): FIT.json files of the
+// repository, a synthetic planar force dataset, and a check on error messages.
+#pragma once
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "test_support.hpp"
+#include "training/fit_config.hpp"
+#include "training/force_dataset.hpp"
+
+namespace nmdp::test {
+
+// Every one of `parts` occurs in `message` (an error message names the file, the key, the value...).
+inline void expectAll(const std::string& message, const std::vector<std::string>& parts) {
+  for (const std::string& p : parts)
+    EXPECT_NE(message.find(p), std::string::npos) << "'" << p << "' not in: " << message;
+}
+
+// A FIT.json of the repository (path relative to its root), parsed as `nmdp fit --config` would.
+inline FitConfig fitConfigFile(const std::string& rel) {
+  const std::string path = sourcePath(rel);
+  std::ifstream in(path);
+  return parseFitConfig(nlohmann::json::parse(in), {path, ""});
+}
+
+// A planar dataset: the points phis × betas, K vertices each, smooth made-up wrenches that vanish
+// above the surface.
+inline ForceDataset syntheticDataset(int K, const std::vector<double>& phis, const std::vector<double>& betas) {
+  ForceDataset d;
+  const int P = static_cast<int>(phis.size() * betas.size());
+  d.features.resize(P * K, 2);
+  d.vertex.resize(P * K);
+  d.wrench.resize(P * K, 3);
+  int row = 0;
+  for (double phi : phis)
+    for (double beta : betas)
+      for (int v = 0; v < K; ++v, ++row) {
+        d.features.row(row) << phi, beta;
+        d.vertex[row] = v;
+        const double depth = std::max(0.0, -phi);
+        d.wrench.row(row) << depth * 100 * std::sin(v + beta), depth * 1000 * (1.5 + std::cos(v - beta)),
+            depth * std::cos(3 * v + beta);
+      }
+  d.feature_names = {"phi", "beta"};
+  d.feature_units = {"m", "rad"};
+  d.wrench_names = {"F_x", "F_z", "tau_y"};
+  d.wrench_units = {"N", "N", "N m"};
+  d.source = "synthetic";
+  d.torque_centre = 0.05;
+  return d;
+}
+
+}  // namespace nmdp::test
