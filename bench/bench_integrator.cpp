@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_clock.hpp"
 #include "contact_models/coulomb_model.hpp"
 #include "control/gait.hpp"
 #include "multibody/kinematics.hpp"
@@ -37,11 +38,7 @@ struct RunResult {
   int steps = 0;
 };
 
-double threadCpuSeconds() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
+using bench::threadCpuSeconds;
 
 double percentile(std::vector<double> v, double p) {
   if (v.empty()) return 0;

@@ -46,6 +46,7 @@
 #include <unistd.h>
 #include <vector>
 
+#include "bench_clock.hpp"
 #include "../tests/mujoco_urdf.hpp"
 #include "contact_models/coulomb_model.hpp"
 #include "io/json_params.hpp"
@@ -60,15 +61,8 @@ using namespace nmdp;
 
 namespace {
 
-double threadCpuSeconds() {
-  timespec t;
-  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-  return t.tv_sec + 1e-9 * t.tv_nsec;
-}
-
-double wallSeconds() {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
-}
+using bench::threadCpuSeconds;
+using bench::wallSeconds;
 
 double median(std::vector<double> v) {
   if (v.empty()) return NAN;

@@ -488,23 +488,26 @@ MlpModelFile loadMlpModel(const std::string& path) {
   return out;
 }
 
-void saveMlpModel(const std::string& path, const MlpParameters& p, const PlanarGeometry& geometry) {
+namespace {
+// Throws std::invalid_argument "`where`: ..." for parameters or a geometry the format cannot hold.
+void checkSavable(const std::string& where, const MlpParameters& p, const PlanarGeometry& geometry) {
   if (const std::string problem = mlpParameterProblem(p); !problem.empty())
-    throw std::invalid_argument("saveMlpModel(" + path + "): " + problem);
+    throw std::invalid_argument(where + ": " + problem);
   if (!(geometry.cutoff_width > 0.0) || !std::isfinite(geometry.cutoff_width) || !std::isfinite(geometry.cutoff) ||
       !std::isfinite(geometry.torque_centre))
-    throw std::invalid_argument("saveMlpModel(" + path + "): the geometry must be finite with cutoff_width > 0");
+    throw std::invalid_argument(where + ": the geometry must be finite with cutoff_width > 0");
+}
+}  // namespace
+
+void saveMlpModel(const std::string& path, const MlpParameters& p, const PlanarGeometry& geometry) {
+  checkSavable("saveMlpModel(" + path + ")", p, geometry);  // before any file is created
   h5::File file = h5::File::createAtomic(path);
   writeMlpModel(file, p, geometry);
   file.commit();
 }
 
 void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry& geometry) {
-  if (const std::string problem = mlpParameterProblem(p); !problem.empty())
-    throw std::invalid_argument("writeMlpModel(" + file.path() + "): " + problem);
-  if (!(geometry.cutoff_width > 0.0) || !std::isfinite(geometry.cutoff_width) || !std::isfinite(geometry.cutoff) ||
-      !std::isfinite(geometry.torque_centre))
-    throw std::invalid_argument("writeMlpModel(" + file.path() + "): the geometry must be finite with cutoff_width > 0");
+  checkSavable("writeMlpModel(" + file.path() + ")", p, geometry);
   file.writeStringAttribute("/", "nmdp_model", "mlp");
   file.createGroup("/mlp");
   file.writeDoubleAttribute("/mlp", "format_version", kFormatVersion);

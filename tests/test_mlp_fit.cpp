@@ -64,24 +64,16 @@ TEST(MlpFitAcceptance, DISABLED_SandSamplesWithinTenPercentOfThePublishedModel) 
   EXPECT_EQ(fit.record.points.pointCount(), 103) << "the published model's 103 points";
   std::cout << formatMlpFitReport(fit.record);
 
-  const std::string dir = sharedPath("granular/robosimian_sand_rbf");
-  const RbfFunction published(readPublishedRbf(dir + "/inputs.txt", dir + "/weights.txt"));
   const MlpFunction mlp(fit.record.fit.parameters);
-  std::mt19937 rng(20261121);  // the points of the RBF acceptance in test_fit.cpp
-  std::uniform_real_distribution<double> depth(-0.07, 0.0), angle(-0.9, 0.9);
-  constexpr int kPoints = 2000;
-  Eigen::MatrixX2d f(kPoints, 2);
-  for (int i = 0; i < kPoints; ++i) f.row(i) << depth(rng), angle(rng);
+  const Eigen::MatrixX2d f = acceptancePoints();  // those of the RBF acceptance in test_fit.cpp
+  const int kPoints = static_cast<int>(f.rows());
   Eigen::MatrixXd W_pub, W_mlp;
-  published.evaluate(f, W_pub, nullptr, nullptr);
+  publishedSandModel().evaluate(f, W_pub, nullptr, nullptr);
   mlp.evaluate(f, W_mlp, nullptr, nullptr);
-  std::vector<double> e(kPoints);
+  const std::vector<double> e = errorRelativeToPublished(f, W_mlp, W_pub);
   int worst = 0;
   double worst_deep = 0.0;  // below 1 cm, for the record
   for (int i = 0; i < kPoints; ++i) {
-    const double largest = W_pub.row(i).cwiseAbs().maxCoeff();
-    ASSERT_GT(largest, 0.0) << "at " << f.row(i);
-    e[i] = (W_mlp.row(i) - W_pub.row(i)).cwiseAbs().maxCoeff() / largest;
     if (e[i] > e[worst]) worst = i;
     if (f(i, 0) < -0.01) worst_deep = std::max(worst_deep, e[i]);
   }

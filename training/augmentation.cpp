@@ -152,4 +152,23 @@ PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& set
   return out;
 }
 
+Eigen::VectorXd pointScales(const PlanarPoints& points) {
+  const double overall = points.values.size() ? points.values.cwiseAbs().maxCoeff() : 0.0;
+  Eigen::VectorXd scale(points.pointCount());
+  for (int i = 0; i < points.pointCount(); ++i) {
+    const double local = points.values.row(i).cwiseAbs().maxCoeff();
+    scale[i] = local > 0.0 ? local : overall;
+  }
+  return scale;
+}
+
+Eigen::MatrixXd relativeVertexErrors(const Eigen::MatrixXd& error, const Eigen::VectorXd& scale) {
+  const Eigen::Index P = error.rows(), K = error.cols() / 3;
+  Eigen::MatrixXd relative(P, K);
+  for (Eigen::Index i = 0; i < P; ++i)
+    for (Eigen::Index j = 0; j < K; ++j)
+      relative(i, j) = error.block(i, 3 * j, 1, 3).cwiseAbs().maxCoeff() / (scale[i] > 0.0 ? scale[i] : 1.0);
+  return relative;
+}
+
 }  // namespace nmdp

@@ -53,4 +53,11 @@ struct AugmentationSettings {
 // std::invalid_argument on settings that parseFitConfig rejects (a zero scale, a height ≤ 0).
 PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& settings);
 
+// What the fit reports divide errors by: at each point the largest |value| entry, "the largest
+// wrench at that point"; at zero-wrench points (above the surface) the largest of all the values.
+Eigen::VectorXd pointScales(const PlanarPoints& points);
+// P×K: for each point and vertex, the largest |error| over (F_x, F_z, τ_y) divided by the point's
+// scale (by 1 where the scale is 0, i.e. all the data is zero). error is P×3K, in the layout of values.
+Eigen::MatrixXd relativeVertexErrors(const Eigen::MatrixXd& error, const Eigen::VectorXd& scale);
+
 }  // namespace nmdp

@@ -87,9 +87,7 @@ torch::Tensor weightedLoss(const torch::Tensor& y, const torch::Tensor& target, 
   return (w * (y - target)).square().mean();
 }
 
-}  // namespace
 
-namespace {
 // The RBF of `rbf` through the training points, sampled on the grid s.teacher_grid over the box of
 // the training points at or below the surface (measured and mirrored).
 PlanarPoints teacherSamples(const PlanarPoints& points, const std::vector<int>& train, const MlpFitSettings& s,
@@ -204,12 +202,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
                              params.input_std.transpose().array();
   const Eigen::MatrixXd Yn = (Y.rowwise() - params.output_offset.transpose()).array().rowwise() /
                              params.output_scale.transpose().array();
-  fit.point_scale.resize(P);
-  const double overall = points.values.cwiseAbs().maxCoeff();
-  for (int i = 0; i < P; ++i) {
-    const double local = Y.row(i).cwiseAbs().maxCoeff();
-    fit.point_scale[i] = local > 0.0 ? local : overall;
-  }
+  fit.point_scale = pointScales(points);
   Eigen::MatrixXd Wl = Eigen::MatrixXd::Ones(P + T, O);
   if (s.loss == MlpLoss::Relative) {
     double largest = 0.0;  // over the training points: the validation points stay unseen
@@ -331,11 +324,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   function.evaluate(points.features, W, nullptr, nullptr);
   fit.error = W - points.values;
   fit.teacher_samples = T;
-  fit.relative.resize(P, K);
-  for (int i = 0; i < P; ++i)
-    for (int j = 0; j < K; ++j)
-      fit.relative(i, j) = fit.error.block(i, 3 * j, 1, 3).cwiseAbs().maxCoeff() /
-                           (fit.point_scale[i] > 0.0 ? fit.point_scale[i] : 1.0);
+  fit.relative = relativeVertexErrors(fit.error, fit.point_scale);
   fit.parameters = std::move(params);
   return fit;
 }

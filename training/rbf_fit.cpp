@@ -90,19 +90,10 @@ RbfFit fitRbf(const PlanarPoints& points, const RbfFitSettings& settings, const 
   out.parameters.weights = solution.topRows(P);
   if (T) out.parameters.polynomial = solution.bottomRows(T);
 
-  const Eigen::Index K = points.values.cols() / 3;
   out.loo_error.resize(P, points.values.cols());
   for (Eigen::Index i = 0; i < P; ++i) out.loo_error.row(i) = solution.row(i) / inverse(i, i);
-  const double overall = points.values.cwiseAbs().maxCoeff();
-  out.point_scale.resize(P);
-  out.loo_relative.resize(P, K);
-  for (Eigen::Index i = 0; i < P; ++i) {
-    const double local = points.values.row(i).cwiseAbs().maxCoeff();
-    out.point_scale[i] = local > 0.0 ? local : overall;
-    for (Eigen::Index j = 0; j < K; ++j)
-      out.loo_relative(i, j) = out.loo_error.block(i, 3 * j, 1, 3).cwiseAbs().maxCoeff() /
-                               (out.point_scale[i] > 0.0 ? out.point_scale[i] : 1.0);
-  }
+  out.point_scale = pointScales(points);
+  out.loo_relative = relativeVertexErrors(out.loo_error, out.point_scale);
   return out;
 }
 
