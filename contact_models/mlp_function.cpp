@@ -18,7 +18,8 @@ namespace nmdp {
 
 namespace {
 
-constexpr double kFormatVersion = 1.0;
+constexpr double kFormatVersion = 2.0;          // the newest version this program reads and writes
+constexpr double kFormatVersionNoEnvelope = 1.0;  // written when output_envelope is "none"
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
 constexpr double kSoftplusThreshold = 36.0;  // log1p(exp(-36)) < half an ulp of 36: the switch is invisible
 
@@ -293,13 +294,27 @@ std::string MlpFunction::describe() const {
   s << "MLP ";
   const std::vector<int> sizes = params_.sizes();
   for (size_t i = 0; i < sizes.size(); ++i) s << (i ? "-" : "") << sizes[i];
-  s << " " << mlpActivationName(params_.activation) << ", " << vertexCount() << " vertices, "
+  s << " " << mlpActivationName(params_.activation);
+  if (params_.output_envelope == MlpOutputEnvelope::Depth) s << ", W = (-phi) N depth envelope";
+  s << ", " << vertexCount() << " vertices, "
     << (jacobian_ == MlpJacobian::Tangents ? "hand-coded tangents" : std::string(mlpJacobianName(jacobian_)) + " autograd");
   return s.str();
 }
 
 void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                            Eigen::MatrixXd* dW_dbeta) const {
+  evaluateNetwork(features, W, dW_dphi, dW_dbeta);
+  if (params_.output_envelope == MlpOutputEnvelope::Depth && features.rows() > 0) {
+    // W = (−φ) ⊙ N: dW/dφ = −N + (−φ) ⊙ dN/dφ, dW/dβ = (−φ) ⊙ dN/dβ (W still holds N here).
+    const Eigen::ArrayXd depth = 0.0 - features.col(0).array();  // 0.0 − φ: +0 at the surface
+    if (dW_dphi) *dW_dphi = (dW_dphi->array().colwise() * depth - W.array()).matrix();
+    if (dW_dbeta) dW_dbeta->array().colwise() *= depth;
+    W.array().colwise() *= depth;
+  }
+}
+
+void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
+                                  Eigen::MatrixXd* dW_dbeta) const {
   const Eigen::Index B = features.rows();
   const Eigen::Index O = 3 * vertexCount();
   W.resize(B, O);
@@ -408,8 +423,8 @@ MlpModelFile loadMlpModel(const std::string& path) {
   if (file.hasAttribute("/mlp", "format_version")) {
     const double version = file.readDoubleAttribute("/mlp", "format_version");
     if (!(version >= 1.0 && version <= kFormatVersion))
-      fail("attribute 'format_version' of '/mlp' is " + std::to_string(version) + ", this program reads version " +
-           std::to_string(kFormatVersion));
+      fail("attribute 'format_version' of '/mlp' is " + std::to_string(version) + ", this program reads versions 1 to " +
+           std::to_string(static_cast<int>(kFormatVersion)));
   }
   if (file.hasAttribute("/mlp", "wrench")) {
     const std::string wrench = file.readStringAttribute("/mlp", "wrench");
@@ -424,6 +439,12 @@ MlpModelFile loadMlpModel(const std::string& path) {
   if (const std::string problem = mlpActivationProblem(activation); !problem.empty())
     fail("attribute 'activation' of '/mlp': " + problem);
   parseMlpActivation(activation, &p.activation);
+  if (file.hasAttribute("/mlp", "output_envelope")) {
+    const std::string envelope = file.readStringAttribute("/mlp", "output_envelope");
+    if (!parseMlpOutputEnvelope(envelope, &p.output_envelope))
+      fail("attribute 'output_envelope' of '/mlp' is '" + envelope + "'; valid values: \"none\" (W = N) or \"depth\" "
+           "(W = (-phi) N)");
+  }
 
   const auto integer = [&](const std::string& name, double lo, double hi) {
     const double x = file.readDoubleAttribute("/mlp", name);
@@ -510,7 +531,8 @@ void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry&
   checkSavable("writeMlpModel(" + file.path() + ")", p, geometry);
   file.writeStringAttribute("/", "nmdp_model", "mlp");
   file.createGroup("/mlp");
-  file.writeDoubleAttribute("/mlp", "format_version", kFormatVersion);
+  const bool envelope = p.output_envelope != MlpOutputEnvelope::None;
+  file.writeDoubleAttribute("/mlp", "format_version", envelope ? kFormatVersion : kFormatVersionNoEnvelope);
   file.writeStringAttribute("/mlp", "activation", mlpActivationName(p.activation));
   file.writeDoubleAttribute("/mlp", "layers", static_cast<double>(p.layers.size()));
   file.writeDoubleAttribute("/mlp", "vertices", p.vertexCount());
@@ -519,6 +541,7 @@ void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry&
   file.writeDoubleAttribute("/mlp", "cutoff", geometry.cutoff);
   file.writeDoubleAttribute("/mlp", "cutoff_width", geometry.cutoff_width);
   file.writeStringAttribute("/mlp", "units", kUnits);
+  if (envelope) file.writeStringAttribute("/mlp", "output_envelope", mlpOutputEnvelopeName(p.output_envelope));
   file.writeStrings("/mlp/feature_names", {"phi", "beta"});
   file.writeVector("/mlp/input_mean", p.input_mean);
   file.writeVector("/mlp/input_std", p.input_std);

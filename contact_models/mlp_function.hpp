@@ -8,7 +8,9 @@
 //     x̂ = (f − input_mean) ⊘ input_std                       (2)
 //     h_0 = x̂,   h_{i+1} = σ(A_i h_i + b_i)   for i < L       (A_i: out_i × in_i, the torch layout)
 //     y = A_L h_L + b_L                                        (3K)
-//     W = output_scale ⊙ y + output_offset                    (3K; vertex j = entries 3j, 3j+1, 3j+2)
+//     N = output_scale ⊙ y + output_offset                    (3K; vertex j = entries 3j, 3j+1, 3j+2)
+//     W = N                  with output_envelope "none" (the default)
+//     W = (−φ) ⊙ N           with output_envelope "depth"
 //
 // with a smooth activation σ (the solver needs C¹; ReLU is rejected):
 //   tanh       tanh(x)
@@ -16,6 +18,16 @@
 //              returns x, which equals log(1 + eˣ) and its slope 1 to double precision (the torch
 //              default threshold 20, e.g. when training in float32, differs by < 2.1e-9)
 //   silu       x / (1 + e⁻ˣ)
+//
+// The depth envelope (MlpOutputEnvelope::Depth) makes the wrench vanish exactly at the surface φ = 0:
+// near the surface W ≈ N(0, β)·(−φ), so the network fits the slope W/(−φ), of order 1 down to the
+// surface, instead of a wrench that fades to zero there. (The published sand model is zero at φ = 0
+// only at its measured angles, not between them, so the envelope does not bring an MLP closer to it:
+// training/README.md.) The factor is linear, so W stays C∞; above the surface it changes sign, and
+// there the training's zero points drive N to ≈ 0 and the model's cut-off
+// (planar_wrench_model.hpp) zeroes every wrench above `cutoff`. Derivatives:
+//     dW/dφ = −N + (−φ) ⊙ dN/dφ,   dW/dβ = (−φ) ⊙ dN/dβ,
+// applied in Eigen after the network pass (N and dN from any of the schemes below).
 //
 // Evaluation: all rows of a batch go through the network in one pass, one ATen call per affine
 // layer with the transposed weight A_iᵀ stored contiguous (which the reference BLAS multiplies ~1.5×
@@ -56,7 +68,8 @@
 // ----- File format (HDF5, readable by h5py; never TorchScript: loading executes nothing) ---------
 //   /                        attribute nmdp_model = "mlp"
 //   /mlp                     group; attributes:
-//       format_version       1 (float64)
+//       format_version       1 (float64), or 2 when output_envelope is "depth" (files without the
+//                            envelope stay version 1, readable by older programs); 1 and 2 are read
 //       activation           string: "tanh", "softplus" or "silu"
 //       layers               float64, integer L + 1 ≥ 1: the number of affine layers
 //       vertices             float64, integer K ≥ 1: the output has 3K entries
@@ -65,6 +78,8 @@
 //       cutoff               float64, m: zero wrench for φ ≥ cutoff
 //       cutoff_width         float64 > 0, m: blending band below the cut-off
 //       units                string, informational ("phi: m, beta: rad; F_x, F_z: N; tau_y: N m")
+//       output_envelope      string, optional: "none" (W = N; the default when absent) or "depth"
+//                            (W = (−φ) ⊙ N, see above); written only when "depth"
 //   /mlp/feature_names       (2) strings "phi", "beta" (checked when present)
 //   /mlp/input_mean          (2) float64: mean of (φ, β)
 //   /mlp/input_std           (2) float64 > 0
@@ -73,8 +88,8 @@
 //   /mlp/layer_{i}/weight    out_i × in_i float64 (i = 0..L): in_0 = 2, in_i = out_{i−1}, out_L = 3K
 //   /mlp/layer_{i}/bias      (out_i) float64
 // Every value must be finite. A missing dataset or attribute, a wrong shape, a NaN or inf, an
-// unknown activation (ReLU included), a wrench kind other than "planar" or a newer format_version
-// is an InputError naming the file and the dataset or attribute.
+// unknown activation (ReLU included), an unknown output_envelope, a wrench kind other than "planar"
+// or a newer format_version is an InputError naming the file and the dataset or attribute.
 #pragma once
 #include <Eigen/Dense>
 #include <cstdint>
@@ -98,6 +113,28 @@ bool parseMlpActivation(const std::string& name, MlpActivation* activation);
 // Why `name` is not an accepted activation, for messages ("" when it is accepted).
 std::string mlpActivationProblem(const std::string& name);
 
+// What multiplies the network's output N (see the function above).
+enum class MlpOutputEnvelope {
+  None,   // W = N
+  Depth,  // W = (−φ) ⊙ N: zero at the surface
+};
+// "none", "depth". Inline (no libtorch): training/fit_config.cpp, in the core library, parses them too.
+inline const char* mlpOutputEnvelopeName(MlpOutputEnvelope envelope) {
+  return envelope == MlpOutputEnvelope::Depth ? "depth" : "none";
+}
+// false when `name` is neither "none" nor "depth".
+inline bool parseMlpOutputEnvelope(const std::string& name, MlpOutputEnvelope* envelope) {
+  if (name == "none") {
+    *envelope = MlpOutputEnvelope::None;
+    return true;
+  }
+  if (name == "depth") {
+    *envelope = MlpOutputEnvelope::Depth;
+    return true;
+  }
+  return false;
+}
+
 // One affine layer in the torch layout: y = weight · x + bias.
 struct MlpLayer {
   Eigen::MatrixXd weight;  // out × in
@@ -112,6 +149,7 @@ struct MlpParameters {
   Eigen::VectorXd output_scale;                          // 3K
   Eigen::VectorXd output_offset;                         // 3K
   std::vector<MlpLayer> layers;                          // L hidden layers, then the output layer
+  MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // W = N, or W = (−φ) ⊙ N
 
   int vertexCount() const;        // K (0 when there are no layers)
   std::vector<int> sizes() const;  // 2, H_1, ..., H_L, 3K
@@ -145,7 +183,9 @@ class MlpFunction : public FeatureWrenchFunction {
   DerivativeSupport derivative() const override {
     return jacobian_ == MlpJacobian::Tangents ? DerivativeSupport::Analytic : DerivativeSupport::Autograd;
   }
-  std::string describe() const override;  // e.g. "MLP 2-64-64-78 tanh, 26 vertices"
+  // e.g. "MLP 2-64-64-78 tanh, 26 vertices, forward-mode autograd"; with the depth envelope
+  // "MLP 2-64-64-78 tanh, W = (-phi) N depth envelope, 26 vertices, forward-mode autograd".
+  std::string describe() const override;
   // features: B×2 rows (φ, β); W, dW_dphi, dW_dbeta: B×3K (resized). One network pass per call.
   void evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                 Eigen::MatrixXd* dW_dbeta) const override;
@@ -155,6 +195,10 @@ class MlpFunction : public FeatureWrenchFunction {
   MlpJacobian jacobian() const { return jacobian_; }
 
  private:
+  // N and its derivatives (the network without the output envelope), by the jacobian scheme.
+  void evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::MatrixXd& N, Eigen::MatrixXd* dN_dphi,
+                       Eigen::MatrixXd* dN_dbeta) const;
+
   struct Torch;  // the layers as libtorch tensors (mlp_function.cpp)
   MlpParameters params_;
   MlpJacobian jacobian_;

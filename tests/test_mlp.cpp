@@ -2,6 +2,7 @@
 // and run-to-run bit-identity, the HDF5 file round trip, the full PlanarWrenchModel chain rule, the
 // JSON factory, and bad model files.
 #include <Eigen/Geometry>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstring>
@@ -262,6 +263,108 @@ TEST(MlpFunction, InconsistentParametersAreRejected) {
   EXPECT_EQ(mlpActivationProblem("silu"), "");
 }
 
+// ----- the depth envelope W = (−φ) ⊙ N --------------------------------------------------------------
+
+MlpParameters envelopeParameters(MlpActivation activation = MlpActivation::Tanh) {
+  MlpParameters p = testParameters(activation);
+  p.output_envelope = MlpOutputEnvelope::Depth;
+  return p;
+}
+
+// Rows below, at and above the surface (φ = 0 exactly in rows 1 and 4).
+Eigen::MatrixX2d envelopeFeatures() {
+  Eigen::MatrixX2d f(6, 2);
+  f << -0.05, 0.3, 0.0, -0.4, 0.02, 0.05, -0.08, 1.0, 0.0, 0.7, -0.0004, -0.2;
+  return f;
+}
+
+class MlpEnvelopeDerivatives : public ::testing::TestWithParam<FunctionCase> {};
+
+TEST_P(MlpEnvelopeDerivatives, MatchCentralDifferences) {
+  const MlpFunction mlp(envelopeParameters(GetParam().activation), GetParam().jacobian);
+  const Eigen::MatrixX2d f = envelopeFeatures();
+  Eigen::MatrixXd W, dphi, dbeta;
+  mlp.evaluate(f, W, &dphi, &dbeta);
+  ASSERT_EQ(W.rows(), f.rows());
+  ASSERT_EQ(dphi.cols(), 3 * kVertices);
+  for (int d = 0; d < 2; ++d) {
+    const double eps = 1e-4 * mlp.parameters().input_std[d];
+    Eigen::MatrixX2d fp = f, fm = f;
+    fp.col(d).array() += eps;
+    fm.col(d).array() -= eps;
+    Eigen::MatrixXd Wp, Wm;
+    mlp.evaluate(fp, Wp, nullptr, nullptr);
+    mlp.evaluate(fm, Wm, nullptr, nullptr);
+    const Eigen::MatrixXd fd = (Wp - Wm) / (2 * eps);
+    const Eigen::MatrixXd& ad = d == 0 ? dphi : dbeta;
+    EXPECT_LT(relativeError(ad, fd), 1e-7) << (d == 0 ? "dW/dphi" : "dW/dbeta");
+    // Row by row too: the rows at the surface (small W, the derivative −N) must match on their own scale.
+    for (Eigen::Index r = 0; r < f.rows(); ++r)
+      EXPECT_LT(relativeError(ad.row(r), fd.row(r)), 1e-6) << (d == 0 ? "dW/dphi" : "dW/dbeta") << " row " << r;
+  }
+  EXPECT_GT(dphi.cwiseAbs().maxCoeff(), 1.0);  // not trivially zero
+  EXPECT_GT(dbeta.cwiseAbs().maxCoeff(), 1.0);
+
+  // Only one direction requested: the same numbers.
+  Eigen::MatrixXd W1, dphi1, dbeta1;
+  mlp.evaluate(f, W1, &dphi1, nullptr);
+  EXPECT_TRUE(identical(dphi1, dphi));
+  EXPECT_TRUE(identical(W1, W));
+  mlp.evaluate(f, W1, nullptr, &dbeta1);
+  EXPECT_TRUE(identical(dbeta1, dbeta));
+  EXPECT_TRUE(identical(W1, W));
+}
+
+INSTANTIATE_TEST_SUITE_P(ActivationsAndSchemes, MlpEnvelopeDerivatives,
+                         ::testing::Values(FunctionCase{MlpActivation::Tanh, MlpJacobian::ForwardMode},
+                                           FunctionCase{MlpActivation::Tanh, MlpJacobian::DoubleBackward},
+                                           FunctionCase{MlpActivation::Tanh, MlpJacobian::Tangents},
+                                           FunctionCase{MlpActivation::Softplus, MlpJacobian::ForwardMode},
+                                           FunctionCase{MlpActivation::Silu, MlpJacobian::Tangents}),
+                         [](const ::testing::TestParamInfo<FunctionCase>& info) {
+                           std::string s = std::string(mlpActivationName(info.param.activation)) + "_" +
+                                           mlpJacobianName(info.param.jacobian);
+                           for (char& c : s)
+                             if (c == '-') c = '_';
+                           return s;
+                         });
+
+TEST(MlpEnvelope, IsTheDepthTimesTheNetworkAndZeroAtTheSurface) {
+  const Eigen::MatrixX2d f = envelopeFeatures();
+  for (MlpJacobian jacobian : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
+    const MlpFunction plain(testParameters(), jacobian), enveloped(envelopeParameters(), jacobian);
+    Eigen::MatrixXd N, dN_phi, dN_beta, W, dW_phi, dW_beta, W0;
+    plain.evaluate(f, N, &dN_phi, &dN_beta);
+    enveloped.evaluate(f, W, &dW_phi, &dW_beta);
+    enveloped.evaluate(f, W0, nullptr, nullptr);
+    for (Eigen::Index r = 0; r < f.rows(); ++r) {
+      const double depth = 0.0 - f(r, 0);  // +0 at the surface, as mlp_function.cpp computes it
+      // W = (−φ) N and its derivatives, as the header defines them (the same roundings: bit for bit).
+      EXPECT_TRUE(identical(W.row(r), depth * N.row(r))) << mlpJacobianName(jacobian) << " row " << r;
+      EXPECT_TRUE(identical(dW_beta.row(r), depth * dN_beta.row(r))) << mlpJacobianName(jacobian) << " row " << r;
+      EXPECT_TRUE(identical(dW_phi.row(r), depth * dN_phi.row(r) - N.row(r))) << mlpJacobianName(jacobian) << " row " << r;
+      if (f(r, 0) == 0.0) {
+        // At the surface: exactly zero wrench (with and without derivatives) and zero dW/dβ; dW/dφ = −N.
+        EXPECT_EQ(W.row(r).cwiseAbs().maxCoeff(), 0.0) << mlpJacobianName(jacobian) << " row " << r;
+        EXPECT_EQ(W0.row(r).cwiseAbs().maxCoeff(), 0.0) << mlpJacobianName(jacobian) << " row " << r;
+        EXPECT_EQ(dW_beta.row(r).cwiseAbs().maxCoeff(), 0.0) << mlpJacobianName(jacobian) << " row " << r;
+        EXPECT_TRUE(identical(dW_phi.row(r), -N.row(r))) << mlpJacobianName(jacobian) << " row " << r;
+        EXPECT_GT(N.row(r).cwiseAbs().maxCoeff(), 1.0);  // N itself is not zero there
+      }
+    }
+    EXPECT_LT(relativeError(W0, W), 1e-13) << "values with and without derivatives, " << mlpJacobianName(jacobian);
+  }
+  EXPECT_EQ(MlpFunction(envelopeParameters()).describe(),
+            "MLP 2-64-64-78 tanh, W = (-phi) N depth envelope, 26 vertices, forward-mode autograd");
+  EXPECT_STREQ(mlpOutputEnvelopeName(MlpOutputEnvelope::None), "none");
+  EXPECT_STREQ(mlpOutputEnvelopeName(MlpOutputEnvelope::Depth), "depth");
+  MlpOutputEnvelope e = MlpOutputEnvelope::None;
+  EXPECT_TRUE(parseMlpOutputEnvelope("depth", &e));
+  EXPECT_EQ(e, MlpOutputEnvelope::Depth);
+  EXPECT_FALSE(parseMlpOutputEnvelope("Depth", &e));
+  EXPECT_EQ(e, MlpOutputEnvelope::Depth);
+}
+
 // ----- the HDF5 file -------------------------------------------------------------------------------
 
 TEST(MlpFile, SaveLoadRoundTripIsBitIdentical) {
@@ -310,19 +413,50 @@ TEST(MlpFile, SaveLoadRoundTripIsBitIdentical) {
   EXPECT_EQ(raw.readMatrix("/mlp/layer_2/bias").size(), 78);
 }
 
+TEST(MlpFile, SaveLoadRoundTripWithTheDepthEnvelope) {
+  TempFile file("envelope.h5");
+  const MlpFunction mlp(envelopeParameters(), MlpJacobian::Tangents);
+  saveMlpModel(file.path(), mlp, testGeometry());
+  {
+    const h5::File raw = h5::File::openRead(file.path());
+    EXPECT_EQ(raw.readDoubleAttribute("/mlp", "format_version"), 2.0);
+    EXPECT_EQ(raw.readStringAttribute("/mlp", "output_envelope"), "depth");
+  }
+  const MlpModelFile loaded = loadMlpModel(file.path());
+  EXPECT_EQ(loaded.parameters.output_envelope, MlpOutputEnvelope::Depth);
+  const MlpFunction again(loaded.parameters, MlpJacobian::Tangents);
+  Eigen::MatrixXd W1, p1, b1, W2, p2, b2;
+  mlp.evaluate(envelopeFeatures(), W1, &p1, &b1);
+  again.evaluate(envelopeFeatures(), W2, &p2, &b2);
+  EXPECT_TRUE(identical(W1, W2));
+  EXPECT_TRUE(identical(p1, p2));
+  EXPECT_TRUE(identical(b1, b2));
+
+  // Without the envelope the file stays version 1 and has no output_envelope attribute.
+  TempFile plain("plain.h5");
+  saveMlpModel(plain.path(), testParameters(), testGeometry());
+  const h5::File raw = h5::File::openRead(plain.path());
+  EXPECT_EQ(raw.readDoubleAttribute("/mlp", "format_version"), 1.0);
+  EXPECT_FALSE(raw.hasAttribute("/mlp", "output_envelope"));
+  EXPECT_EQ(loadMlpModel(plain.path()).parameters.output_envelope, MlpOutputEnvelope::None);
+}
+
 // Writes the file format by hand, with what a test wants broken (saveMlpModel refuses bad input).
 struct RawFile {
   MlpParameters p = testParameters();
   std::string activation = "tanh";
   double layers = 3;
   double vertices = kVertices;
+  double version = 1.0;
+  std::string envelope;  // the output_envelope attribute; empty: not written (a version-1 file)
   std::string skip;  // a dataset not to write
 
   void write(const std::string& path) const {
     h5::File f = h5::File::createAtomic(path);
     f.writeStringAttribute("/", "nmdp_model", "mlp");
     f.createGroup("/mlp");
-    f.writeDoubleAttribute("/mlp", "format_version", 1.0);
+    f.writeDoubleAttribute("/mlp", "format_version", version);
+    if (!envelope.empty()) f.writeStringAttribute("/mlp", "output_envelope", envelope);
     f.writeStringAttribute("/mlp", "activation", activation);
     f.writeDoubleAttribute("/mlp", "layers", layers);
     f.writeDoubleAttribute("/mlp", "vertices", vertices);
@@ -362,8 +496,33 @@ void expectLoadError(const RawFile& raw, const std::vector<std::string>& parts) 
 
 TEST(MlpFile, CleanRawFileLoads) {
   TempFile file("clean.h5");
-  RawFile().write(file.path());
-  EXPECT_NO_THROW(loadMlpModel(file.path()));
+  RawFile().write(file.path());  // version 1, no output_envelope attribute
+  MlpModelFile m;
+  EXPECT_NO_THROW(m = loadMlpModel(file.path()));
+  EXPECT_EQ(m.parameters.output_envelope, MlpOutputEnvelope::None);
+  RawFile raw;
+  raw.version = 2;
+  raw.envelope = "depth";
+  raw.write(file.path());
+  EXPECT_EQ(loadMlpModel(file.path()).parameters.output_envelope, MlpOutputEnvelope::Depth);
+  raw.envelope = "none";
+  raw.write(file.path());
+  EXPECT_EQ(loadMlpModel(file.path()).parameters.output_envelope, MlpOutputEnvelope::None);
+}
+
+TEST(MlpFile, BadOutputEnvelope) {
+  RawFile raw;
+  raw.version = 2;
+  raw.envelope = "sqrt_depth";
+  expectLoadError(raw, {"attribute 'output_envelope'", "'sqrt_depth'", "\"none\"", "\"depth\""});
+  raw.envelope = "Depth";
+  expectLoadError(raw, {"attribute 'output_envelope'", "'Depth'"});
+}
+
+TEST(MlpFile, NewerFormatVersion) {
+  RawFile raw;
+  raw.version = 3;
+  expectLoadError(raw, {"attribute 'format_version'", "versions 1 to 2"});
 }
 
 TEST(MlpFile, MissingFile) {
@@ -483,9 +642,17 @@ class MlpModelTerrain : public ::testing::TestWithParam<int> {};
 TEST_P(MlpModelTerrain, DerivativeMatchesFiniteDifferences) {
   const PlaneTerrain terrain = GetParam() == 0 ? PlaneTerrain() : PlaneTerrain(Vec3(0.1, -0.05, 1.0), -0.01);
   const std::vector<ContactFrame> frames = testFrames(terrain);
-  for (MlpJacobian jacobian : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
-    const PlanarWrenchModel model(std::make_shared<const MlpFunction>(testParameters(), jacobian), testGeometry(),
-                                  "mlp");
+  for (int n = 0; n < 6; ++n) {
+    const MlpJacobian jacobian =
+        std::array<MlpJacobian, 3>{MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}[n % 3];
+    const bool envelope = n >= 3;  // and the same with the depth envelope, N × 100 so that W at a
+    MlpParameters p = testParameters();  // depth of centimetres is as large as without it
+    if (envelope) {
+      p = envelopeParameters();
+      p.output_scale *= 100.0;
+      p.output_offset *= 100.0;
+    }
+    const PlanarWrenchModel model(std::make_shared<const MlpFunction>(p, jacobian), testGeometry(), "mlp");
     const int K = model.vertexCount();
     std::vector<ContactWrenches> out(frames.size());
     for (ContactWrenches& w : out) w.resize(K);
@@ -501,7 +668,7 @@ TEST_P(MlpModelTerrain, DerivativeMatchesFiniteDifferences) {
         model.evaluate({perturbedFrame(frames[c], i, -eps)}, terrain, minus, false);
         const Mat6X fd = (plus[0].V - minus[0].V) / (2 * eps);
         EXPECT_LT(relativeError(out[c].dV[i], fd, 1.0), 1e-6)
-            << mlpJacobianName(jacobian) << ", contact " << c << ", xi_" << i;
+            << mlpJacobianName(jacobian) << (envelope ? " (depth envelope)" : "") << ", contact " << c << ", xi_" << i;
       }
       EXPECT_GT(out[c].V.cwiseAbs().maxCoeff(), 1.0) << "contact " << c;
     }

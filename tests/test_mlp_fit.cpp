@@ -53,8 +53,10 @@ FitConfig quickConfig() {
 
 // NOT MET, so disabled rather than loosened: with sand_mlp_fit.json the MLP is 6.2 % from the
 // published model at the median, 26 % at the 90th percentile, 35 % at worst below 1 cm and 278 % at
-// the surface (training/README.md, "Acceptance"). It stays here with the bound unchanged;
-// run it with --gtest_also_run_disabled_tests to measure a new configuration.
+// the surface (training/README.md, "Acceptance"). The depth envelope (mlp.output_envelope "depth")
+// does not fix it: the published wrench is not zero at depth 0 between its measured angles, so an
+// envelope model is ~99 % off there (the README has the runs). It stays here with the bound
+// unchanged; run it with --gtest_also_run_disabled_tests to measure a new configuration.
 TEST(MlpFitAcceptance, DISABLED_SandSamplesWithinTenPercentOfThePublishedModel) {
   NMDP_REQUIRE_SHARED("granular/sand_samples");
   NMDP_REQUIRE_SHARED("granular/robosimian_sand_rbf");
@@ -136,6 +138,114 @@ TEST(MlpFit, SameSeedGivesTheSameModelBitForBit) {
   const MlpFitOutcome fit = fitMlpToDataset(d, c, "synthetic");
   saveMlpFit(other, fit.record, fit.geometry);
   expectSameModelFiles(a, other, false);
+}
+
+TEST(MlpFit, SameSeedGivesTheSameModelBitForBitWithTheDepthEnvelope) {
+  TempDir dir;
+  const ForceDataset d = smallDataset();
+  FitConfig c = quickConfig();
+  c.mlp.batch_size = 8;
+  c.mlp.output_envelope = MlpOutputEnvelope::Depth;
+  const std::string a = dir.file("a.h5"), b = dir.file("b.h5"), other = dir.file("other.h5");
+  for (const std::string& path : {a, b}) {
+    const MlpFitOutcome fit = fitMlpToDataset(d, c, "synthetic");
+    saveMlpFit(path, fit.record, fit.geometry);
+  }
+  expectSameModelFiles(a, b, true);
+  EXPECT_EQ(loadMlpModel(a).parameters.output_envelope, MlpOutputEnvelope::Depth);
+  c.mlp.seed = 2;
+  const MlpFitOutcome fit = fitMlpToDataset(d, c, "synthetic");
+  saveMlpFit(other, fit.record, fit.geometry);
+  expectSameModelFiles(a, other, false);
+}
+
+// ==== the depth envelope ========================================================================
+
+TEST(MlpFit, DepthEnvelopeFitsTheWrenchAndVanishesAtTheSurface) {
+  FitConfig c = quickConfig();
+  c.mlp.output_envelope = MlpOutputEnvelope::Depth;
+  c.mlp.max_epochs = 1500;
+  c.augmentation.above_heights.clear();  // the data is then (−φ) times a function of β alone
+  const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
+  const MlpFit& fit = out.record.fit;
+  const PlanarPoints& pts = out.record.points;
+  ASSERT_EQ(fit.parameters.output_envelope, MlpOutputEnvelope::Depth);
+
+  // The output normalization is that of N = W / (−φ) over the training points below the surface.
+  std::vector<int> below;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i] && pts.features(i, 0) < 0.0) below.push_back(i);
+  ASSERT_GT(below.size(), 2u);
+  Eigen::MatrixXd N(below.size(), pts.values.cols());
+  for (size_t r = 0; r < below.size(); ++r) N.row(r) = pts.values.row(below[r]) / -pts.features(below[r], 0);
+  const Eigen::RowVectorXd mean = N.colwise().mean();
+  EXPECT_LT((fit.parameters.output_offset.transpose() - mean).cwiseAbs().maxCoeff(),
+            1e-12 * mean.cwiseAbs().maxCoeff());
+  const Eigen::RowVectorXd sd = ((N.rowwise() - mean).array().square().colwise().mean()).sqrt();
+  EXPECT_LT((fit.parameters.output_scale.transpose() - sd).cwiseAbs().maxCoeff(), 1e-12 * sd.cwiseAbs().maxCoeff());
+
+  // The recorded errors are those of W = (−φ) N: exactly zero at the points on the surface (whose
+  // data is zero), and the training loss of the kept weights is the relative loss on W.
+  double largest = 0.0;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i]) largest = std::max(largest, pts.values.row(i).cwiseAbs().maxCoeff());
+  const double floor = c.mlp.relative_floor * largest;
+  double sum = 0.0;
+  int count = 0, surface = 0;
+  for (int i = 0; i < pts.pointCount(); ++i) {
+    if (pts.features(i, 0) == 0.0) {
+      ++surface;
+      EXPECT_EQ(pts.values.row(i).cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_EQ(fit.error.row(i).cwiseAbs().maxCoeff(), 0.0) << "point " << i;
+    }
+    if (fit.validation[i]) continue;
+    const double si = std::max(pts.values.row(i).cwiseAbs().maxCoeff(), floor);
+    sum += (fit.error.row(i) / si).squaredNorm();
+    count += static_cast<int>(fit.error.cols());
+  }
+  EXPECT_EQ(surface, 5);
+  ASSERT_GT(count, 0);
+  EXPECT_NEAR(sum / count, fit.train_loss, 1e-9 * fit.train_loss + 1e-15);
+  // And it learnt: the loss fell by orders of magnitude, and on this data, proportional to the depth,
+  // the model is within 1 % of every measured point (measured: 0.13 %, and a validation loss of 5e-7
+  // against 9e-3 for the same network without the envelope, 10 % off at worst).
+  EXPECT_LT(fit.train_loss, 1e-3 * fit.history(0, 0));
+  for (int i = 0; i < pts.pointCount(); ++i) {
+    if (pts.origin[i] == PointOrigin::Measured) {
+      EXPECT_LT(fit.relative.row(i).maxCoeff(), 0.01) << "point " << i << " " << pts.features.row(i);
+    }
+  }
+  FitConfig plain = c;
+  plain.mlp.output_envelope = MlpOutputEnvelope::None;
+  EXPECT_LT(fit.validation_loss, 0.01 * fitMlpToDataset(smallDataset(), plain, "synthetic").record.fit.validation_loss);
+
+  // "mse" with the envelope: the mean of ((W_fit − W_data)_c / σ_c)², σ_c the spread of output c of W
+  // over the training points.
+  FitConfig mse = c;
+  mse.mlp.loss = MlpLoss::Mse;
+  mse.mlp.max_epochs = 50;
+  const MlpFitOutcome m = fitMlpToDataset(smallDataset(), mse, "synthetic");
+  ASSERT_EQ(m.record.fit.validation, fit.validation);  // the same split
+  std::vector<int> train;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i]) train.push_back(i);
+  Eigen::MatrixXd Yt(train.size(), pts.values.cols()), Et(train.size(), pts.values.cols());
+  for (size_t r = 0; r < train.size(); ++r) {
+    Yt.row(r) = pts.values.row(train[r]);
+    Et.row(r) = m.record.fit.error.row(train[r]);
+  }
+  const Eigen::RowVectorXd sigma = (Yt.rowwise() - Yt.colwise().mean()).array().square().colwise().mean().sqrt();
+  ASSERT_GT(sigma.minCoeff(), 0.0);
+  const double mse_loss = (Et.array().rowwise() / sigma.array()).square().mean();
+  EXPECT_NEAR(mse_loss, m.record.fit.train_loss, 1e-9 * mse_loss);
+
+  // The file keeps the envelope, and the settings record it.
+  TempDir dir;
+  const std::string path = dir.file("envelope.h5");
+  saveMlpFit(path, out.record, out.geometry);
+  EXPECT_EQ(loadMlpModel(path).parameters.output_envelope, MlpOutputEnvelope::Depth);
+  EXPECT_EQ(out.record.settings["mlp"]["output_envelope"], "depth");
+  expectAll(formatMlpFitReport(out.record), {"\"output_envelope\":\"depth\""});
 }
 
 // ==== the model file ============================================================================
@@ -306,6 +416,13 @@ TEST(MlpFitBadSettings, NameTheConfigurationKey) {
             {"fit.json.mlp.hidden_layers"});
   expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"teacher_grid", {10, 0}}}}}, ctx); }),
             {"fit.json.mlp.teacher_grid", "[n_phi, n_beta]"});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"output_envelope", "sqrt"}}}}, ctx); }),
+            {"fit.json.mlp.output_envelope", "\"none\"", "\"depth\"", "got \"sqrt\""});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"output_envelope", 1}}}}, ctx); }),
+            {"fit.json.mlp.output_envelope"});
+  EXPECT_EQ(parseFitConfig(json::object(), ctx).mlp.output_envelope, MlpOutputEnvelope::None);
+  EXPECT_EQ(parseFitConfig(json{{"mlp", {{"output_envelope", "depth"}}}}, ctx).mlp.output_envelope,
+            MlpOutputEnvelope::Depth);
 
   // A validation fraction that leaves no training point (every origin rounds up to all its points).
   FitConfig c = quickConfig();
@@ -323,7 +440,7 @@ TEST(MlpFitConfig, SettingsJsonParsesBackToTheSameSettings) {
   const json j = json::parse(fitConfigJson(c, 0.1572, "mlp").dump());
   for (const char* key : {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
                           "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss",
-                          "relative_floor", "threads", "teacher_grid"})
+                          "relative_floor", "threads", "teacher_grid", "output_envelope"})
     EXPECT_TRUE(j["mlp"].contains(key)) << key;
   EXPECT_EQ(j.contains("rbf"), c.mlp.teacher_grid[0] > 0) << "the rbf section only for a teacher";
   const FitConfig back = parseFitConfig(j, {"settings", ""});

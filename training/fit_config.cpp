@@ -95,7 +95,7 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   requireKnownKeys(m,
                    {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
                     "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss", "relative_floor",
-                    "threads", "teacher_grid"},
+                    "threads", "teacher_grid", "output_envelope"},
                    mctx);
   MlpFitSettings& mlp = out.mlp;
   mlp.hidden_layers = readInteger(m, "hidden_layers", mlp.hidden_layers, mctx, 0, 100);
@@ -146,6 +146,10 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
          "expected [n_phi, n_beta]: two integers >= 1 (the RBF teacher's grid), or [0, 0] for none, got " +
              m.at("teacher_grid").dump());
   mlp.teacher_grid = {static_cast<int>(grid[0]), static_cast<int>(grid[1])};
+  const std::string envelope = readString(m, "output_envelope", mlpOutputEnvelopeName(mlp.output_envelope), mctx);
+  if (!parseMlpOutputEnvelope(envelope, &mlp.output_envelope))
+    fail(mctx, "output_envelope",
+         "expected \"none\" (W = N) or \"depth\" (W = (-phi) N, zero at the surface), got \"" + envelope + "\"");
 
   const ConfigContext gctx = child(ctx, "geometry");
   const nlohmann::json& g = section(config, "geometry", ctx);
@@ -186,7 +190,8 @@ nlohmann::ordered_json fitConfigJson(const FitConfig& c, double torque_centre, c
                   {"loss", mlpLossName(m.loss)},
                   {"relative_floor", m.relative_floor},
                   {"threads", m.threads},
-                  {"teacher_grid", {m.teacher_grid[0], m.teacher_grid[1]}}};
+                  {"teacher_grid", {m.teacher_grid[0], m.teacher_grid[1]}},
+                  {"output_envelope", mlpOutputEnvelopeName(m.output_envelope)}};
     if (m.teacher_grid[0] > 0)
       out["rbf"] = {{"kernel", rbfKernelName(c.rbf.spec.kernel)},
                     {"epsilon", c.rbf.spec.epsilon},

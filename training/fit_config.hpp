@@ -38,9 +38,11 @@
 //       "relative_floor": 0.05,       > 0: the relative loss divides by at least this × the largest
 //                                     wrench of all points
 //       "threads": 1,                 libtorch threads (≥ 1); 1 makes the result bit-reproducible
-//       "teacher_grid": [0, 0]        [n_φ, n_β] ≥ 1: also train on the "rbf" section's RBF through
+//       "teacher_grid": [0, 0],       [n_φ, n_β] ≥ 1: also train on the "rbf" section's RBF through
 //                                     the same points, sampled on this grid over the points at or
 //                                     below the surface; [0, 0] = no teacher (mlp_fit.hpp)
+//       "output_envelope": "none"     or "depth": the model is W = (−φ) N, zero at the surface
+//                                     (contact_models/mlp_function.hpp, mlp_fit.hpp)
 //     },
 //     "geometry": {                   stored in the model file (planar_wrench_model.hpp)
 //       "torque_centre": "data",      m up the leg; "data" = the dataset's (an error if it has none)

@@ -196,6 +196,23 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   params.input_std = stdOf(Fl, fmu).transpose();
   params.output_offset = ymu.transpose();
   params.output_scale = stdOf(Yt, ymu).transpose();
+  params.output_envelope = s.output_envelope;
+  const bool depth_envelope = s.output_envelope == MlpOutputEnvelope::Depth;
+  const Eigen::RowVectorXd w_scale = params.output_scale.transpose();  // the spread of W (the "mse" loss's unit)
+  if (depth_envelope) {
+    // The network fits N = W / (−φ): normalized by its mean and spread over the training points
+    // below the surface (at φ = 0 the wrench is (−φ) N = 0 whatever N is).
+    std::vector<int> below;
+    for (int i : train)
+      if (F(i, 0) < 0.0) below.push_back(i);
+    if (!below.empty()) {
+      Eigen::MatrixXd Nt(below.size(), O);
+      for (size_t r = 0; r < below.size(); ++r) Nt.row(r) = Y.row(below[r]) / (-F(below[r], 0));
+      const Eigen::RowVectorXd nmu = Nt.colwise().mean();
+      params.output_offset = nmu.transpose();
+      params.output_scale = stdOf(Nt, nmu).transpose();
+    }
+  }
 
   // Normalized inputs and targets, the loss weights.
   const Eigen::MatrixXd Xn = (F.rowwise() - params.input_mean.transpose()).array().rowwise() /
@@ -203,7 +220,12 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   const Eigen::MatrixXd Yn = (Y.rowwise() - params.output_offset.transpose()).array().rowwise() /
                              params.output_scale.transpose().array();
   fit.point_scale = pointScales(points);
-  Eigen::MatrixXd Wl = Eigen::MatrixXd::Ones(P + T, O);
+  // The loss weights. Without an envelope they multiply the normalized outputs y − ŷ, so they carry
+  // output_scale; with the depth envelope they multiply W − W_data itself.
+  const Eigen::RowVectorXd unit =
+      depth_envelope ? Eigen::RowVectorXd(Eigen::RowVectorXd::Ones(O)) : Eigen::RowVectorXd(params.output_scale.transpose());
+  Eigen::MatrixXd Wl = depth_envelope ? Eigen::MatrixXd(w_scale.cwiseInverse().replicate(P + T, 1))
+                                      : Eigen::MatrixXd::Ones(P + T, O);
   if (s.loss == MlpLoss::Relative) {
     double largest = 0.0;  // over the training points: the validation points stay unseen
     for (int i : train)
@@ -211,7 +233,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     const double floor = s.relative_floor * (largest > 0.0 ? largest : 1.0);
     for (int i = 0; i < P + T; ++i) {
       const double si = std::max(Y.row(i).cwiseAbs().maxCoeff(), floor);
-      Wl.row(i) = params.output_scale.transpose() / si;
+      Wl.row(i) = unit / si;
     }
   }
 
@@ -225,17 +247,30 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     net.weight.push_back(toTensor(l.weight).requires_grad_(true));
     net.bias.push_back(toTensor(l.bias).requires_grad_(true));
   }
-  const torch::Tensor X_all = toTensor(Xn), Y_all = toTensor(Yn), W_all = toTensor(Wl);
+  // With the depth envelope the targets are the wrenches themselves and the network's output is
+  // mapped to W = (−φ) ⊙ (output_scale ⊙ y + output_offset) inside the graph.
+  const Eigen::MatrixXd depth_col = (0.0 - F.col(0).array()).matrix();
+  const torch::Tensor X_all = toTensor(Xn), Y_all = toTensor(depth_envelope ? Y : Yn), W_all = toTensor(Wl),
+                      D_all = toTensor(depth_col);
+  const torch::Tensor out_scale = toTensor(params.output_scale).unsqueeze(0),
+                      out_offset = toTensor(params.output_offset).unsqueeze(0);
+  // The loss on rows x (normalized inputs), targets t, weights w, depths −φ (column d).
+  const auto loss = [&](const torch::Tensor& x, const torch::Tensor& t, const torch::Tensor& w, const torch::Tensor& d) {
+    if (!depth_envelope) return weightedLoss(net.forward(x), t, w);
+    return weightedLoss(d * (net.forward(x) * out_scale + out_offset), t, w);
+  };
   const auto select = [](const torch::Tensor& t, const std::vector<int>& rows) {
     std::vector<int64_t> r(rows.begin(), rows.end());
     return t.index_select(0, torch::tensor(r, torch::kInt64));
   };
-  const torch::Tensor Xt = select(X_all, train), Ytn = select(Y_all, train), Wt = select(W_all, train);
-  torch::Tensor Xv, Yvn, Wv;
+  const torch::Tensor Xt = select(X_all, train), Ytn = select(Y_all, train), Wt = select(W_all, train),
+                      Dt = select(D_all, train);
+  torch::Tensor Xv, Yvn, Wv, Dv;
   if (!val.empty()) {
     Xv = select(X_all, val);
     Yvn = select(Y_all, val);
     Wv = select(W_all, val);
+    Dv = select(D_all, val);
   }
   const int n_train = static_cast<int>(train.size());
   const int batch = s.batch_size == 0 ? n_train : std::min(s.batch_size, n_train);
@@ -256,23 +291,24 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     for (auto& group : adam.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
     if (batch == n_train) {
       adam.zero_grad();
-      weightedLoss(net.forward(Xt), Ytn, Wt).backward();
+      loss(Xt, Ytn, Wt, Dt).backward();
       adam.step();
     } else {
       for (int i = n_train - 1; i > 0; --i) std::swap(order[i], order[rng() % static_cast<unsigned>(i + 1)]);
       for (int b = 0; b < n_train; b += batch) {
         const std::vector<int> rows(order.begin() + b, order.begin() + std::min(b + batch, n_train));
-        const torch::Tensor xb = select(Xt, rows), yb = select(Ytn, rows), wb = select(Wt, rows);
+        const torch::Tensor xb = select(Xt, rows), yb = select(Ytn, rows), wb = select(Wt, rows),
+                            db = select(Dt, rows);
         adam.zero_grad();
-        weightedLoss(net.forward(xb), yb, wb).backward();
+        loss(xb, yb, wb, db).backward();
         adam.step();
       }
     }
     double train_loss, val_loss = std::numeric_limits<double>::quiet_NaN();
     {
       torch::NoGradGuard no_grad;
-      train_loss = weightedLoss(net.forward(Xt), Ytn, Wt).item<double>();
-      if (!val.empty()) val_loss = weightedLoss(net.forward(Xv), Yvn, Wv).item<double>();
+      train_loss = loss(Xt, Ytn, Wt, Dt).item<double>();
+      if (!val.empty()) val_loss = loss(Xv, Yvn, Wv, Dv).item<double>();
     }
     if (!std::isfinite(train_loss) || (!val.empty() && !std::isfinite(val_loss))) {
       std::ostringstream m;

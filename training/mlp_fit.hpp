@@ -10,6 +10,13 @@
 //     into a sliver of the normalized input); output_offset/output_scale = mean and standard deviation of
 //     each of the 3K outputs over the training points (scale 1 where an output is constant), so the
 //     network fits values of order 1;
+//   * output envelope (mlp.output_envelope, "none" by default): with "depth" the model is
+//     W = (−φ) ⊙ N (contact_models/mlp_function.hpp), zero at the surface. output_offset/output_scale
+//     are then the mean and standard deviation of W_data / (−φ) over the training points below the
+//     surface (φ < 0), so N is of order 1, and the loss below is evaluated on W = (−φ) ⊙ N against
+//     W_data inside the torch graph (points at φ = 0 contribute exactly zero error; "mse" divides by
+//     the standard deviation of each W output). The teacher grid, the report, /fit, validation and early
+//     stopping all work on W unchanged;
 //   * split by feature point, stratified by origin (measured, mirrored, above the surface): of each
 //     origin's points round(validation_fraction · count) go to validation, picked by a Fisher–Yates
 //     shuffle driven by std::mt19937(seed) (portable: rng() % n, not std::shuffle);
@@ -74,6 +81,7 @@ struct MlpFitSettings {
   double relative_floor = 0.05;
   int threads = 1;
   std::array<int, 2> teacher_grid{0, 0};  // n_φ × n_β RBF samples added to the training set; 0 = none
+  MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // "depth": W = (−φ) ⊙ N (mlp_function.hpp)
 };
 
 // What the callback sees after every epoch (1-based epochs).
