@@ -46,6 +46,55 @@ TEST_P(Kinematics, SpatialJacobianMatchesFiniteDifferences) {
   }
 }
 
+// forwardKinematics turns coordinate axes (±x, ±y, ±z) by mixing two columns; the poses, motion
+// axes and world inertias must be those of the plain recursion R_i = R_λ(i) X_i Rot(a_i, q_i).
+// One revolute body gets a general axis, the other path.
+TEST_P(Kinematics, PosesMatchThePlainRecursion) {
+  Model m = model;
+  for (Body& b : m.bodies)
+    if (!b.is_base && b.kind == JointKind::Revolute) {
+      b.axis = Vec3(1, -2, 3).normalized();
+      break;
+    }
+  Data data(m);
+  std::mt19937 rng(5);
+  data.base_chart = Eigen::AngleAxisd(0.3, Vec3(0.6, 0.0, 0.8)).toRotationMatrix();
+  const Eigen::VectorXd q = randomVector(rng, m.nq, 1.0);
+  forwardKinematics(m, data, q);
+  std::vector<Mat3> R(m.nq);
+  std::vector<Vec3> p(m.nq);
+  int coordinate_axes = 0;
+  for (int i = 0; i < m.nq; ++i) {
+    const Body& b = m.bodies[i];
+    const Mat3 place = b.uses_base_chart ? data.base_chart : b.placement_rotation;
+    const Mat3 Rj = b.parent < 0 ? place : Mat3(R[b.parent] * place);
+    const Vec3 pj = b.parent < 0 ? b.placement_translation : Vec3(p[b.parent] + R[b.parent] * b.placement_translation);
+    const Vec3 axis = Rj * b.axis;
+    Vec6 S;
+    if (b.kind == JointKind::Revolute) {
+      R[i] = Rj * Eigen::AngleAxisd(q[i], b.axis).toRotationMatrix();
+      p[i] = pj;
+      S << axis, pj.cross(axis);
+      coordinate_axes += b.axis.cwiseAbs().maxCoeff() == 1.0;
+    } else {
+      R[i] = Rj;
+      p[i] = pj + axis * q[i];
+      S << Vec3::Zero(), axis;
+    }
+    EXPECT_LT((data.R[i] - R[i]).norm(), 1e-14) << "body " << i;
+    EXPECT_LT((data.p[i] - p[i]).norm(), 1e-14) << "body " << i;
+    EXPECT_LT((data.S[i] - S).norm(), 1e-14) << "body " << i;
+    if (b.mass == 0.0) continue;
+    const Vec3 c = p[i] + R[i] * b.com;
+    const Mat3 cx = skew(c);
+    Mat6 I;
+    I << R[i] * b.inertia_com * R[i].transpose() + b.mass * cx * cx.transpose(), b.mass * cx, b.mass * cx.transpose(),
+        b.mass * Mat3::Identity();
+    EXPECT_LT((data.Iw[i] - I).norm(), 1e-12 * I.norm()) << "body " << i;
+  }
+  EXPECT_GT(coordinate_axes, 0) << "the fast path was not exercised";
+}
+
 TEST_P(Kinematics, JacobianDerivativesMatchFiniteDifferences) {
   Data data(model), fd(model);
   std::mt19937 rng(4);

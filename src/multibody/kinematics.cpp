@@ -2,33 +2,55 @@
 
 namespace nmdp {
 
+namespace {
+// The index of a coordinate axis ±e_a, or −1 for a general axis. URDF joints mostly turn about
+// ±x, ±y or ±z; then turning a frame mixes two of its columns and the world axis is a column.
+int coordinateAxis(const Vec3& axis) {
+  for (int a = 0; a < 3; ++a)
+    if (std::abs(axis[a]) == 1.0 && axis[(a + 1) % 3] == 0.0 && axis[(a + 2) % 3] == 0.0) return a;
+  return -1;
+}
+}  // namespace
+
 void forwardKinematics(const Model& model, Data& data, const Eigen::VectorXd& q) {
   for (int i = 0; i < model.nq; ++i) {
     const Body& b = model.bodies[i];
     const Mat3& Rplace = b.uses_base_chart ? data.base_chart : b.placement_rotation;
-    Mat3 Rj;
-    Vec3 pj;
+    // R and p first hold the joint frame at q_i = 0.
+    Mat3& R = data.R[i];
+    Vec3& p = data.p[i];
     if (b.parent < 0) {
-      Rj = Rplace;
-      pj = b.placement_translation;
+      R = Rplace;
+      p = b.placement_translation;
     } else {
-      Rj.noalias() = data.R[b.parent] * Rplace;
-      pj.noalias() = data.R[b.parent] * b.placement_translation;
-      pj += data.p[b.parent];
+      const Mat3& Rp = data.R[b.parent];
+      p.noalias() = Rp * b.placement_translation;
+      p += data.p[b.parent];
+      if (Rplace == Mat3::Identity())
+        R = Rp;
+      else
+        R.noalias() = Rp * Rplace;
     }
-    const Vec3 axis = Rj * b.axis;
+    const int a = coordinateAxis(b.axis);
+    const Vec3 axis = a >= 0 ? Vec3(b.axis[a] * R.col(a)) : Vec3(R * b.axis);
     if (b.kind == JointKind::Revolute) {
-      data.R[i].noalias() = Rj * rotationAbout(b.axis, q[i]);
-      data.p[i] = pj;
-      data.S[i] << axis, pj.cross(axis);
+      if (a >= 0) {
+        const int u = (a + 1) % 3, v = (a + 2) % 3;
+        const double c = std::cos(q[i]), s = b.axis[a] * std::sin(q[i]);
+        const Vec3 ru = R.col(u), rv = R.col(v);
+        R.col(u) = c * ru + s * rv;
+        R.col(v) = c * rv - s * ru;
+      } else {
+        R = (R * rotationAbout(b.axis, q[i])).eval();
+      }
+      data.S[i] << axis, p.cross(axis);
     } else {
-      data.R[i] = Rj;
-      data.p[i] = pj + axis * q[i];
+      p += axis * q[i];
       data.S[i] << Vec3::Zero(), axis;
     }
     if (b.mass > 0.0 || !b.inertia_com.isZero(0.0)) {  // virtual base bodies keep Iw = 0
-      const Vec3 c = data.p[i] + data.R[i] * b.com;
-      data.Iw[i] = spatialInertia(b.mass, c, data.R[i] * b.inertia_com * data.R[i].transpose());
+      const Vec3 c = p + R * b.com;
+      data.Iw[i] = spatialInertia(b.mass, c, R * b.inertia_com * R.transpose());
     }
   }
 }

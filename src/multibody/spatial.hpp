@@ -53,7 +53,8 @@ inline Mat6 crfMatrix(const Vec6& m) { return -crmMatrix(m).transpose(); }
 inline Mat6 spatialInertia(double m, const Vec3& c, const Mat3& Ic) {
   Mat6 I;
   const Mat3 cx = skew(c);
-  I.topLeftCorner<3, 3>() = Ic + m * cx * cx.transpose();
+  I.topLeftCorner<3, 3>() = Ic - m * c * c.transpose();  // Ic + m [c]×[c]×ᵀ = Ic + m (|c|² 1 − c cᵀ)
+  I.topLeftCorner<3, 3>().diagonal().array() += m * c.squaredNorm();
   I.topRightCorner<3, 3>() = m * cx;
   I.bottomLeftCorner<3, 3>() = m * cx.transpose();
   I.bottomRightCorner<3, 3>() = m * Mat3::Identity();

@@ -143,7 +143,9 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
     }
   }
   if (m_ > 0) {
-    frameGeometry(system);
+    // J_c only where K needs it: the contact forces enter G through the joints' motion axes.
+    const bool jacobians_needed = kinetic_energy_ == KineticEnergyMeasure::ContactPoints;
+    frameGeometry(system, jacobians_needed);
     system.contact_model->evaluate(frames, *system.terrain, wrenches, false);
     addContactForces(system, w);
   }
@@ -214,24 +216,28 @@ void StepResidual::evaluateContacts(const System& system, const Eigen::VectorXd&
   if (m_ > 0) contactGeometry(system, ContactDerivative::Dropped);
 }
 
-void StepResidual::frameGeometry(const System& system) {
+void StepResidual::frameGeometry(const System& system, bool with_jacobians) {
   const Model& model = *system.model;
   for (size_t c = 0; c < system.contacts.size(); ++c) {
     contactFrame(model, data, system.contacts[c], frames[c]);
-    contactJacobian(model, data, system.contacts[c], jacobians[c]);
+    if (with_jacobians) contactJacobian(model, data, system.contacts[c], jacobians[c]);
   }
 }
 
 void StepResidual::addContactForces(const System& system, const Eigen::VectorXd& w) {
+  // J_cᵀ f = S_jᵀ f_O on the chain, with f_O = [τ + p × F; F] the wrench moved from the sphere
+  // centre p to the world origin, where the motion axes S_j are expressed.
   for (size_t c = 0; c < system.contacts.size(); ++c) {
     const Vec6 f = wrenches[c].V * w.segment(c * K_vertices_, K_vertices_);
-    for (int j : contact_chains_[c]) G[j] -= jacobians[c].col(j).dot(f);
+    Vec6 f_origin;
+    f_origin << f.head<3>() + frames[c].position.cross(f.tail<3>()), f.tail<3>();
+    for (int j : contact_chains_[c]) G[j] -= data.S[j].dot(f_origin);
   }
 }
 
 void StepResidual::contactGeometry(const System& system, ContactDerivative derivative) {
   const int C = static_cast<int>(system.contacts.size());
-  frameGeometry(system);
+  frameGeometry(system, true);
   system.contact_model->evaluate(frames, *system.terrain, wrenches, derivative == ContactDerivative::Model);
   if (derivative == ContactDerivative::FiniteDifference)
     finite_difference_.evaluate(*system.contact_model, frames, *system.terrain, wrenches);

@@ -43,8 +43,9 @@ class StepResidual {
   void evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
                 ContactDerivative derivative);
 
-  // G and K only (with the contact frames, J_c and V_c): what Newton's line search needs, at about a
-  // third of the cost. ∂G/∂θ, B, ∇K and ∇²K keep their previous values.
+  // G and K only (with the contact frames and V_c; J_c only for contact-point K, else they keep
+  // their previous values): what Newton's line search needs, at about a quarter of the cost.
+  // ∂G/∂θ, B, ∇K and ∇²K keep their previous values.
   void evaluateValue(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w);
 
   // Kinematics, contact frames, Jacobians, V_c (no derivative) and B at q only (ne-mdp).
@@ -70,7 +71,7 @@ class StepResidual {
  private:
   void addContacts(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative);
   void contactGeometry(const System& system, ContactDerivative derivative);  // frames, J_c, V_c, dV/dξ, B
-  void frameGeometry(const System& system);  // frames and J_c only
+  void frameGeometry(const System& system, bool with_jacobians);  // frames (and J_c)
   void addContactForces(const System& system, const Eigen::VectorXd& w);  // G −= Σ J_cᵀ V_c w_c
 
   // NE: K = ½ Σ_k v_kᵀ I_k v_k + ½ Σ_j a_j θ̇_j² from RNEA's world velocities (= ½ θ̇ᵀ H θ̇).

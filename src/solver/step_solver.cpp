@@ -47,12 +47,13 @@ bool StepSolver::solveQp(double beta) {
 }
 
 StepSolver::StepSolver(const System& system)
-    : residual_(system), lu_(system.model->nq, system.model->nq), llt_(system.model->nq) {
+    : residual_(system), llt_(system.model->nq) {
   const Model& model = *system.model;
   const int n = model.nq;
   const int C = static_cast<int>(system.contacts.size());
   const int m = residual_.weightCount();
   K_vertices_ = C > 0 ? m / C : 0;
+  lu_.resize(n);
   qp_.resize(std::vector<int>(C, K_vertices_));
   warm_.at_bound.assign(m, 0);
   warm_.cap.assign(C, 0);
@@ -67,13 +68,11 @@ StepSolver::StepSolver(const System& system)
   dw_.setZero(m);
   g_.setZero(m);
   D_.setZero(n, m);
-  D_scratch_.setZero(n, m);
   Qdw_.setZero(m);
   penalty_scale_.setZero(m);
   Q_penalized_.setZero(m, m);
   B_theta_.setZero(n, m);
   generalized_force_change_.setZero(n);
-  step_scratch_.setZero(n);
   Q_.setZero(m, m);
   HD_.setZero(n, m);
   mass_scale_ = model.total_mass > 0 ? model.total_mass : 1.0;
@@ -83,16 +82,6 @@ StepSolver::StepSolver(const System& system)
 Vec6 StepSolver::contactWrench(int c) const {
   const ContactWrenches& cw = residual_.wrenches[c];
   return cw.V * w_.segment(c * K_vertices_, K_vertices_);
-}
-
-template <typename Derived>
-void StepSolver::solveInPlace(Eigen::MatrixBase<Derived>& x, Eigen::MatrixBase<Derived>& scratch) {
-  // x ← Q U⁻¹ L⁻¹ P x, written out with a preallocated scratch of x's size: FullPivLU::solve and an
-  // in-place permutation product both allocate a temporary.
-  scratch.noalias() = lu_.permutationP() * x;
-  lu_.matrixLU().template triangularView<Eigen::UnitLower>().solveInPlace(scratch);
-  lu_.matrixLU().template triangularView<Eigen::Upper>().solveInPlace(scratch);
-  x.noalias() = lu_.permutationQ() * scratch;
 }
 
 StepAttempt StepSolver::attempt(const System& system, const IntegratorOptions& options, const SimulationState& state,
@@ -133,14 +122,13 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
         residual_.evaluate(system, theta, w, derivative);
         ++stats.g_evaluations;
       }
-      lu_.compute(residual_.dG_dtheta);
-      factorization_valid_ = lu_.rank() == n;
+      factorization_valid_ = lu_.compute(residual_.dG_dtheta) == n;
       if (!factorization_valid_) return false;
       fresh = true;
       refresh = evaluated_with_derivatives = false;
     }
     step_ = -residual_.G;
-    solveInPlace(step_, step_scratch_);
+    lu_.solveInPlace(step_);
     ++stats.newton_iterations;
     double trial_merit = 0.0;
     bool decreased = false;
@@ -209,15 +197,14 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
         ++stats.g_evaluations;
         derivatives_here = evaluated_here = true;
       }
-      lu_.compute(residual_.dG_dtheta);
-      factorization_valid_ = lu_.rank() == theta_.size();
+      factorization_valid_ = lu_.compute(residual_.dG_dtheta) == theta_.size();
       if (!factorization_valid_) {
         stats.status = StepStatus::ProjectionFailed;
         return stats;
       }
       B_theta_ = residual_.B;
       D_ = residual_.B;
-      solveInPlace(D_, D_scratch_);
+      lu_.solveInPlace(D_);
       g_.noalias() = D_.transpose() * residual_.grad_K;
       HD_.noalias() = residual_.hess_K * D_;
       Q_.noalias() = D_.transpose() * HD_;

@@ -13,7 +13,7 @@
 // The zeroth-order variants never ask the model for dV/dξ: D and Newton use central differences of V
 // (ZerothOrderJacobian::FiniteDifference) or the paper's ∂Ḡ/∂θ with that term dropped.
 //
-// Proj(θ, w): Newton on G(·, w) = 0 with a full-pivoting LU (rank-revealing). A Newton step is
+// Proj(θ, w): Newton on G(·, w) = 0 with a complete-pivoting LU (rank-revealing, as FullPivLU). A Newton step is
 // accepted only if ‖G‖₂ decreases; a step that still does not after projection_backtracking
 // halvings, a rank-deficient Jacobian, or the iteration cap is divergence (the paper notes the
 // projection can diverge without a line search; the stiff contact makes the full step overshoot on
@@ -27,9 +27,9 @@
 // All buffers are sized in the constructor; attempt() allocates nothing.
 #pragma once
 #include <Eigen/Cholesky>
-#include <Eigen/LU>
 
 #include "solver/capped_simplex_qp.hpp"
+#include "solver/complete_pivoting_lu.hpp"
 #include "solver/step_residual.hpp"
 
 namespace nmdp {
@@ -68,22 +68,19 @@ class StepSolver {
   // Whether dw_ is a step to try: its contact force change above tol_w·m‖g‖, and predicted to lower
   // K by more than K can resolve.
   bool stepIsWorthTaking(const IntegratorOptions& options, double K);
-  // x = (∂G/∂θ)⁻¹ b in place, with the current factorization.
-  template <typename Derived>
-  void solveInPlace(Eigen::MatrixBase<Derived>& x, Eigen::MatrixBase<Derived>& scratch);
 
   StepResidual residual_;
   CappedSimplexQp qp_;
   QpActiveSet warm_;
   bool warm_valid_ = false;
-  Eigen::FullPivLU<Eigen::MatrixXd> lu_;
+  CompletePivotingLu lu_;
   bool factorization_valid_ = false;  // lu_ factors a full-rank ∂G/∂θ of this step at some iterate
   // Newton keeps an old factorization while each step shrinks ‖G‖₂ at least by this factor.
   static constexpr double kRefreshContraction = 0.3;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
-  Eigen::MatrixXd D_, Q_, HD_, D_scratch_;
-  Eigen::VectorXd step_scratch_, Qdw_, generalized_force_change_;
+  Eigen::MatrixXd D_, Q_, HD_;
+  Eigen::VectorXd Qdw_, generalized_force_change_;
   Eigen::VectorXd penalty_scale_;  // the unit of β per weight: max(Q_ii, 1e-12·max Q_ii)
   Eigen::MatrixXd Q_penalized_;
   Eigen::MatrixXd B_theta_;  // B at the current iterate (the residual may hold a rejected trial)
