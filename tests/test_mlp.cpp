@@ -109,6 +109,14 @@ TEST_P(MlpDerivatives, MatchCentralDifferences) {
   EXPECT_TRUE(identical(W1, W));
 }
 
+// "tanh_forward_mode": the activation and the Jacobian scheme, as a test name.
+std::string functionCaseName(const ::testing::TestParamInfo<FunctionCase>& info) {
+  std::string s = std::string(mlpActivationName(info.param.activation)) + "_" + mlpJacobianName(info.param.jacobian);
+  for (char& c : s)
+    if (c == '-') c = '_';
+  return s;
+}
+
 INSTANTIATE_TEST_SUITE_P(ActivationsAndSchemes, MlpDerivatives,
                          ::testing::Values(FunctionCase{MlpActivation::Tanh, MlpJacobian::ForwardMode},
                                            FunctionCase{MlpActivation::Softplus, MlpJacobian::ForwardMode},
@@ -119,13 +127,7 @@ INSTANTIATE_TEST_SUITE_P(ActivationsAndSchemes, MlpDerivatives,
                                            FunctionCase{MlpActivation::Tanh, MlpJacobian::Tangents},
                                            FunctionCase{MlpActivation::Softplus, MlpJacobian::Tangents},
                                            FunctionCase{MlpActivation::Silu, MlpJacobian::Tangents}),
-                         [](const ::testing::TestParamInfo<FunctionCase>& info) {
-                           std::string s = std::string(mlpActivationName(info.param.activation)) + "_" +
-                                           mlpJacobianName(info.param.jacobian);
-                           for (char& c : s)
-                             if (c == '-') c = '_';
-                           return s;
-                         });
+                         functionCaseName);
 
 TEST(MlpFunction, JacobianSchemesAgree) {
   for (MlpActivation activation : {MlpActivation::Tanh, MlpActivation::Softplus, MlpActivation::Silu}) {
@@ -321,13 +323,7 @@ INSTANTIATE_TEST_SUITE_P(ActivationsAndSchemes, MlpEnvelopeDerivatives,
                                            FunctionCase{MlpActivation::Tanh, MlpJacobian::Tangents},
                                            FunctionCase{MlpActivation::Softplus, MlpJacobian::ForwardMode},
                                            FunctionCase{MlpActivation::Silu, MlpJacobian::Tangents}),
-                         [](const ::testing::TestParamInfo<FunctionCase>& info) {
-                           std::string s = std::string(mlpActivationName(info.param.activation)) + "_" +
-                                           mlpJacobianName(info.param.jacobian);
-                           for (char& c : s)
-                             if (c == '-') c = '_';
-                           return s;
-                         });
+                         functionCaseName);
 
 TEST(MlpEnvelope, IsTheDepthTimesTheNetworkAndZeroAtTheSurface) {
   const Eigen::MatrixX2d f = envelopeFeatures();
