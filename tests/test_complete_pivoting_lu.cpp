@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/LU>
+#include <limits>
 #include <random>
 
 namespace nmdp {
@@ -79,6 +80,21 @@ TEST(CompletePivotingLu, RevealsTheRankAsFullPivLu) {
   Eigen::MatrixXd a = randomMatrix(rng, n, n);
   a.row(7) = 3.0 * a.row(2);
   EXPECT_EQ(lu.compute(a), n - 1);
+}
+
+TEST(CompletePivotingLu, ANonFiniteEntryIsNotFullRank) {
+  // The projection treats a rank-deficient ∂G/∂θ as divergence; a NaN or infinity must end there
+  // rather than in a solve that returns NaN as if it were a step.
+  std::mt19937 rng(13);
+  const int n = 18;
+  CompletePivotingLu lu;
+  lu.resize(n);
+  for (double bad : {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()})
+    for (int where : {0, 77, 323}) {
+      Eigen::MatrixXd a = randomMatrix(rng, n, n);
+      a(where % n, where / n) = bad;
+      EXPECT_LT(lu.compute(a), n) << bad << " at " << where;
+    }
 }
 
 TEST(CompletePivotingLu, BreaksTiesAsFullPivLu) {
