@@ -43,10 +43,12 @@ void forwardKinematics(const Model& model, Data& data, const Eigen::VectorXd& q)
       } else {
         R = (R * rotationAbout(b.axis, q[i])).eval();
       }
-      data.S[i] << axis, p.cross(axis);
+      data.S[i].head<3>() = axis;  // (not a comma initializer: GCC 12 warns on its 4-wide loads of a Vec3)
+      data.S[i].tail<3>() = p.cross(axis);
     } else {
       p += axis * q[i];
-      data.S[i] << Vec3::Zero(), axis;
+      data.S[i].head<3>().setZero();
+      data.S[i].tail<3>() = axis;
     }
     if (b.mass > 0.0 || !b.inertia_com.isZero(0.0)) {  // virtual base bodies keep Iw = 0
       const Vec3 c = p + R * b.com;
