@@ -229,8 +229,8 @@ void StepResidual::addContactForces(const System& system, const Eigen::VectorXd&
   // centre p to the world origin, where the motion axes S_j are expressed.
   for (size_t c = 0; c < system.contacts.size(); ++c) {
     const Vec6 f = wrenches[c].V * w.segment(c * K_vertices_, K_vertices_);
-    Vec6 f_origin;
-    f_origin << f.head<3>() + frames[c].position.cross(f.tail<3>()), f.tail<3>();
+    Vec6 f_origin = f;
+    f_origin.head<3>() += frames[c].position.cross(Vec3(f.tail<3>()));
     for (int j : contact_chains_[c]) G[j] -= data.S[j].dot(f_origin);
   }
 }
