@@ -37,7 +37,8 @@ TEST_P(Kinematics, SpatialJacobianMatchesFiniteDifferences) {
       forwardKinematics(model, fd, qm);
       linkPose(model, fd, link, Rm, pm);
       const Vec3 xm = linkPoint(model, fd, link, local);
-      Jfd.col(j) << angularRate(Rp, Rm, 2 * eps), (xp - xm) / (2 * eps);
+      Jfd.col(j).head<3>() = angularRate(Rp, Rm, 2 * eps);
+      Jfd.col(j).tail<3>() = (xp - xm) / (2 * eps);
     }
     EXPECT_LT((J - Jfd).cwiseAbs().maxCoeff(), 1e-8) << model.links[link].name;
     Mat3X Jp(3, model.nq);
@@ -74,12 +75,14 @@ TEST_P(Kinematics, PosesMatchThePlainRecursion) {
     if (b.kind == JointKind::Revolute) {
       R[i] = Rj * Eigen::AngleAxisd(q[i], b.axis).toRotationMatrix();
       p[i] = pj;
-      S << axis, pj.cross(axis);
+      S.head<3>() = axis;  // (block assignments: GCC 12 -Warray-bounds flags Eigen's comma initializer here)
+      S.tail<3>() = pj.cross(axis);
       coordinate_axes += b.axis.cwiseAbs().maxCoeff() == 1.0;
     } else {
       R[i] = Rj;
       p[i] = pj + axis * q[i];
-      S << Vec3::Zero(), axis;
+      S.head<3>().setZero();
+      S.tail<3>() = axis;
     }
     EXPECT_LT((data.R[i] - R[i]).norm(), 1e-14) << "body " << i;
     EXPECT_LT((data.p[i] - p[i]).norm(), 1e-14) << "body " << i;
@@ -88,8 +91,10 @@ TEST_P(Kinematics, PosesMatchThePlainRecursion) {
     const Vec3 c = p[i] + R[i] * b.com;
     const Mat3 cx = skew(c);
     Mat6 I;
-    I << R[i] * b.inertia_com * R[i].transpose() + b.mass * cx * cx.transpose(), b.mass * cx, b.mass * cx.transpose(),
-        b.mass * Mat3::Identity();
+    I.topLeftCorner<3, 3>() = R[i] * b.inertia_com * R[i].transpose() + b.mass * cx * cx.transpose();
+    I.topRightCorner<3, 3>() = b.mass * cx;
+    I.bottomLeftCorner<3, 3>() = b.mass * cx.transpose();
+    I.bottomRightCorner<3, 3>() = b.mass * Mat3::Identity();
     EXPECT_LT((data.Iw[i] - I).norm(), 1e-12 * I.norm()) << "body " << i;
   }
   EXPECT_GT(coordinate_axes, 0) << "the fast path was not exercised";
