@@ -62,6 +62,31 @@ bool identical(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
 }
 
+// dW/dφ (d = 0) or dW/dβ (d = 1) of every row by central differences: rows are independent, so one
+// perturbed batch differentiates them all.
+Eigen::MatrixXd centralDifference(const MlpFunction& mlp, const Eigen::MatrixX2d& f, int d) {
+  const double eps = 1e-4 * mlp.parameters().input_std[d];
+  Eigen::MatrixX2d fp = f, fm = f;
+  fp.col(d).array() += eps;
+  fm.col(d).array() -= eps;
+  Eigen::MatrixXd Wp, Wm;
+  mlp.evaluate(fp, Wp, nullptr, nullptr);
+  mlp.evaluate(fm, Wm, nullptr, nullptr);
+  return (Wp - Wm) / (2 * eps);
+}
+
+// Asking for one direction only gives the same numbers as asking for both.
+void expectOneDirectionAsBoth(const MlpFunction& mlp, const Eigen::MatrixX2d& f, const Eigen::MatrixXd& W,
+                              const Eigen::MatrixXd& dphi, const Eigen::MatrixXd& dbeta) {
+  Eigen::MatrixXd W1, dphi1, dbeta1;
+  mlp.evaluate(f, W1, &dphi1, nullptr);
+  EXPECT_TRUE(identical(dphi1, dphi));
+  EXPECT_TRUE(identical(W1, W));
+  mlp.evaluate(f, W1, nullptr, &dbeta1);
+  EXPECT_TRUE(identical(dbeta1, dbeta));
+  EXPECT_TRUE(identical(W1, W));
+}
+
 // ----- the feature function ------------------------------------------------------------------------
 
 struct FunctionCase {
@@ -85,28 +110,14 @@ TEST_P(MlpDerivatives, MatchCentralDifferences) {
   ASSERT_EQ(W.rows(), 4);
   ASSERT_EQ(W.cols(), 3 * kVertices);
 
-  // Rows are independent, so one perturbed batch differentiates every row at once.
   for (int d = 0; d < 2; ++d) {
-    const double eps = 1e-4 * mlp.parameters().input_std[d];
-    Eigen::MatrixX2d fp = f, fm = f;
-    fp.col(d).array() += eps;
-    fm.col(d).array() -= eps;
-    Eigen::MatrixXd Wp, Wm;
-    mlp.evaluate(fp, Wp, nullptr, nullptr);
-    mlp.evaluate(fm, Wm, nullptr, nullptr);
-    const Eigen::MatrixXd fd = (Wp - Wm) / (2 * eps);
+    const Eigen::MatrixXd fd = centralDifference(mlp, f, d);
     const Eigen::MatrixXd& ad = d == 0 ? dphi : dbeta;
     EXPECT_LT(relativeError(ad, fd), 1e-7) << (d == 0 ? "dW/dphi" : "dW/dbeta");
     EXPECT_GT(ad.cwiseAbs().maxCoeff(), 1.0);  // not trivially zero
   }
 
-  // Only one direction requested: the same numbers.
-  Eigen::MatrixXd W1, dphi1, dbeta1;
-  mlp.evaluate(f, W1, &dphi1, nullptr);
-  EXPECT_TRUE(identical(dphi1, dphi));
-  mlp.evaluate(f, W1, nullptr, &dbeta1);
-  EXPECT_TRUE(identical(dbeta1, dbeta));
-  EXPECT_TRUE(identical(W1, W));
+  expectOneDirectionAsBoth(mlp, f, W, dphi, dbeta);
 }
 
 // "tanh_forward_mode": the activation and the Jacobian scheme, as a test name.
@@ -290,14 +301,7 @@ TEST_P(MlpEnvelopeDerivatives, MatchCentralDifferences) {
   ASSERT_EQ(W.rows(), f.rows());
   ASSERT_EQ(dphi.cols(), 3 * kVertices);
   for (int d = 0; d < 2; ++d) {
-    const double eps = 1e-4 * mlp.parameters().input_std[d];
-    Eigen::MatrixX2d fp = f, fm = f;
-    fp.col(d).array() += eps;
-    fm.col(d).array() -= eps;
-    Eigen::MatrixXd Wp, Wm;
-    mlp.evaluate(fp, Wp, nullptr, nullptr);
-    mlp.evaluate(fm, Wm, nullptr, nullptr);
-    const Eigen::MatrixXd fd = (Wp - Wm) / (2 * eps);
+    const Eigen::MatrixXd fd = centralDifference(mlp, f, d);
     const Eigen::MatrixXd& ad = d == 0 ? dphi : dbeta;
     EXPECT_LT(relativeError(ad, fd), 1e-7) << (d == 0 ? "dW/dphi" : "dW/dbeta");
     // Row by row too: the rows at the surface (small W, the derivative −N) must match on their own scale.
@@ -307,14 +311,7 @@ TEST_P(MlpEnvelopeDerivatives, MatchCentralDifferences) {
   EXPECT_GT(dphi.cwiseAbs().maxCoeff(), 1.0);  // not trivially zero
   EXPECT_GT(dbeta.cwiseAbs().maxCoeff(), 1.0);
 
-  // Only one direction requested: the same numbers.
-  Eigen::MatrixXd W1, dphi1, dbeta1;
-  mlp.evaluate(f, W1, &dphi1, nullptr);
-  EXPECT_TRUE(identical(dphi1, dphi));
-  EXPECT_TRUE(identical(W1, W));
-  mlp.evaluate(f, W1, nullptr, &dbeta1);
-  EXPECT_TRUE(identical(dbeta1, dbeta));
-  EXPECT_TRUE(identical(W1, W));
+  expectOneDirectionAsBoth(mlp, f, W, dphi, dbeta);
 }
 
 INSTANTIATE_TEST_SUITE_P(ActivationsAndSchemes, MlpEnvelopeDerivatives,
