@@ -50,9 +50,9 @@ void forwardKinematics(const Model& model, Data& data, const Eigen::VectorXd& q)
       data.S[i].head<3>().setZero();
       data.S[i].tail<3>() = axis;
     }
-    if (b.mass > 0.0 || !b.inertia_com.isZero(0.0)) {  // virtual base bodies keep Iw = 0
+    if (b.hasInertia()) {  // virtual base bodies keep Iw = 0
       const Vec3 c = p + R * b.com;
-      data.Iw[i] = spatialInertia(b.mass, c, R * b.inertia_com * R.transpose());
+      data.Iw[i] = spatialInertia(b.mass, c, rotateSymmetric(R, b.inertia_com));
     }
   }
 }

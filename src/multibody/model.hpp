@@ -63,6 +63,10 @@ struct Body {
   Mat3 inertia_com = Mat3::Zero();
   Mat4 second_moment = Mat4::Zero();  // [[∫ρxxᵀ, m c], [m cᵀ, m]] in the body frame
   double armature = 0.0;
+
+  // False for the massless virtual base bodies: their world inertia, momentum and inertia rate
+  // are zero, which the dynamics algorithms skip.
+  bool hasInertia() const { return mass > 0.0 || !inertia_com.isZero(0.0); }
 };
 
 struct Model {

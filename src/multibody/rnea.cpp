@@ -17,6 +17,10 @@ void rneaFromKinematics(const Model& model, Data& data, const Eigen::VectorXd& q
       data.v[i] = data.v[parent] + S * qd[i];
       data.a[i] = data.a[parent] + S * qdd[i] + crossMotion(data.v[parent], S) * qd[i];
     }
+    if (!model.bodies[i].hasInertia()) {  // Iw = 0: no force of its own
+      data.f[i].setZero();
+      continue;
+    }
     const Vec6 h = data.Iw[i] * data.v[i];
     data.f[i].noalias() = data.Iw[i] * data.a[i];
     data.f[i] += crossForce(data.v[i], h);

@@ -15,18 +15,21 @@
 namespace nmdp {
 
 namespace {
-// crf(v) I − I crm(v) = −(Y + Yᵀ) with Y = I crm(v), using the block structure of crm(v).
+// crf(v) I − I crm(v) for a world inertia I = [Ī, [h]×; [h]×ᵀ, m 1] (as spatialInertia builds it)
+// and v = [ω; v_o]: the rate of I as the body moves with v. Since I is linear in (Ī, h, m), it is
+//   [Ī', [h']×; [h']×ᵀ, 0],  h' = ω × h + m v_o,  Ī' = M + Mᵀ + 2 (h·v_o) 1,  M = [ω]× Ī − h v_oᵀ,
+// which costs three cross products instead of six 3×3 matrix products.
 inline void inertiaRate(const Mat6& I, const Vec6& v, Mat6& out) {
-  const Mat3 wx = skew(v.head<3>());
-  const Mat3 vx = skew(v.tail<3>());
-  Mat6 Y;
-  Y.topLeftCorner<3, 3>().noalias() = I.topLeftCorner<3, 3>() * wx;
-  Y.topLeftCorner<3, 3>().noalias() += I.topRightCorner<3, 3>() * vx;
-  Y.topRightCorner<3, 3>().noalias() = I.topRightCorner<3, 3>() * wx;
-  Y.bottomLeftCorner<3, 3>().noalias() = I.bottomLeftCorner<3, 3>() * wx;
-  Y.bottomLeftCorner<3, 3>().noalias() += I.bottomRightCorner<3, 3>() * vx;
-  Y.bottomRightCorner<3, 3>().noalias() = I.bottomRightCorner<3, 3>() * wx;
-  out = -(Y + Y.transpose());
+  const Vec3 w = v.head<3>(), vo = v.tail<3>();
+  const Vec3 h(I(2, 4), I(0, 5), I(1, 3));
+  Mat3 M;
+  for (int c = 0; c < 3; ++c) M.col(c) = w.cross(I.block<3, 1>(0, c)) - h * vo[c];
+  out.topLeftCorner<3, 3>() = M + M.transpose();
+  out.topLeftCorner<3, 3>().diagonal().array() += 2.0 * h.dot(vo);
+  const Vec3 hdot = w.cross(h) + I(3, 3) * vo;
+  out.topRightCorner<3, 3>() = skew(hdot);
+  out.bottomLeftCorner<3, 3>() = skew(-hdot);
+  out.bottomRightCorner<3, 3>().setZero();
 }
 }  // namespace
 
@@ -38,14 +41,19 @@ void rneaDerivatives(const Model& model, Data& data, const Eigen::VectorXd& q, c
   Vec6 a0;
   a0 << Vec3::Zero(), -model.gravity;
   for (int i = 0; i < n; ++i) {
-    data.Ic[i] = data.Iw[i];
-    data.hc[i].noalias() = data.Iw[i] * data.v[i];
-    inertiaRate(data.Iw[i], data.v[i], data.Bc[i]);
     const int parent = model.bodies[i].parent;
     const Vec6 vp = parent >= 0 ? data.v[parent] : Vec6::Zero();
     const Vec6 ap = parent >= 0 ? data.a[parent] : a0;
     data.u_dq[i] = crossMotion(vp, data.S[i]);
     data.x_dq[i] = crossMotion(ap, data.S[i]) - crossMotion(data.u_dq[i], vp);
+    data.Ic[i] = data.Iw[i];
+    if (!model.bodies[i].hasInertia()) {  // Iw = 0: no momentum, no inertia rate
+      data.hc[i].setZero();
+      data.Bc[i].setZero();
+      continue;
+    }
+    data.hc[i].noalias() = data.Iw[i] * data.v[i];
+    inertiaRate(data.Iw[i], data.v[i], data.Bc[i]);
   }
   for (int i = n - 1; i >= 0; --i) {
     const int parent = model.bodies[i].parent;

@@ -22,8 +22,11 @@ inline Mat3 skew(const Vec3& w) {
   return m;
 }
 
+// The two cross products are forced inline: GCC otherwise keeps them out of line in the larger
+// dynamics loops, where a call costs as much as the product itself.
+
 // m × u for motion vectors (Featherstone crm(m) u).
-inline Vec6 crossMotion(const Vec6& m, const Vec6& u) {
+EIGEN_ALWAYS_INLINE Vec6 crossMotion(const Vec6& m, const Vec6& u) {
   Vec6 r;
   r.head<3>() = m.head<3>().cross(u.head<3>());
   r.tail<3>() = m.head<3>().cross(u.tail<3>()) + m.tail<3>().cross(u.head<3>());
@@ -31,7 +34,7 @@ inline Vec6 crossMotion(const Vec6& m, const Vec6& u) {
 }
 
 // m ×* f for a force vector f (Featherstone crf(m) f = -crm(m)^T f).
-inline Vec6 crossForce(const Vec6& m, const Vec6& f) {
+EIGEN_ALWAYS_INLINE Vec6 crossForce(const Vec6& m, const Vec6& f) {
   Vec6 r;
   r.head<3>() = m.head<3>().cross(f.head<3>()) + m.tail<3>().cross(f.tail<3>());
   r.tail<3>() = m.head<3>().cross(f.tail<3>());
@@ -49,16 +52,33 @@ inline Mat6 crmMatrix(const Vec6& m) {
 inline Mat6 crfMatrix(const Vec6& m) { return -crmMatrix(m).transpose(); }
 
 // Spatial inertia about the world origin of a body with mass m, world centre of mass c and
-// rotational inertia Ic about the centre of mass (world axes).
+// symmetric rotational inertia Ic about the centre of mass (world axes):
+//   [Ic + m [c]×[c]×ᵀ, [h]×; [h]×ᵀ, m 1],  h = m c,  Ic + m [c]×[c]×ᵀ = Ic + m (|c|² 1 − c cᵀ).
+// Built entry by entry: only six entries of the rotational block are distinct.
 inline Mat6 spatialInertia(double m, const Vec3& c, const Mat3& Ic) {
+  const Vec3 h = m * c;
+  const double hc = h.dot(c);
   Mat6 I;
-  const Mat3 cx = skew(c);
-  I.topLeftCorner<3, 3>() = Ic - m * c * c.transpose();  // Ic + m [c]×[c]×ᵀ = Ic + m (|c|² 1 − c cᵀ)
-  I.topLeftCorner<3, 3>().diagonal().array() += m * c.squaredNorm();
-  I.topRightCorner<3, 3>() = m * cx;
-  I.bottomLeftCorner<3, 3>() = m * cx.transpose();
+  I(0, 0) = Ic(0, 0) + hc - h.x() * c.x();
+  I(1, 1) = Ic(1, 1) + hc - h.y() * c.y();
+  I(2, 2) = Ic(2, 2) + hc - h.z() * c.z();
+  I(0, 1) = I(1, 0) = Ic(0, 1) - h.x() * c.y();
+  I(0, 2) = I(2, 0) = Ic(0, 2) - h.x() * c.z();
+  I(1, 2) = I(2, 1) = Ic(1, 2) - h.y() * c.z();
+  I.topRightCorner<3, 3>() = skew(h);
+  I.bottomLeftCorner<3, 3>() = skew(-h);
   I.bottomRightCorner<3, 3>() = m * Mat3::Identity();
   return I;
+}
+
+// R J Rᵀ for a symmetric J: one 3×3 product and the six distinct dot products of the second.
+inline Mat3 rotateSymmetric(const Mat3& R, const Mat3& J) {
+  Mat3 A;
+  A.noalias() = R * J;
+  Mat3 out;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i; j < 3; ++j) out(i, j) = out(j, i) = A.row(i).dot(R.row(j));
+  return out;
 }
 
 // 4×4 homogeneous form of a motion vector: d/dt [R t; 0 1] = hat(v) [R t; 0 1].
