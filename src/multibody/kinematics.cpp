@@ -50,10 +50,8 @@ void forwardKinematics(const Model& model, Data& data, const Eigen::VectorXd& q)
       data.S[i].head<3>().setZero();
       data.S[i].tail<3>() = axis;
     }
-    if (b.hasInertia()) {  // virtual base bodies keep Iw = 0
-      const Vec3 c = p + R * b.com;
-      data.Iw[i] = spatialInertia(b.mass, c, rotateSymmetric(R, b.inertia_com));
-    }
+    // Virtual base bodies keep Iw = 0.
+    if (b.hasInertia()) spatialInertia(b.mass, p + R * b.com, R, b.inertia_com, data.Iw[i]);
   }
 }
 

@@ -51,34 +51,29 @@ inline Mat6 crmMatrix(const Vec6& m) {
 
 inline Mat6 crfMatrix(const Vec6& m) { return -crmMatrix(m).transpose(); }
 
-// Spatial inertia about the world origin of a body with mass m, world centre of mass c and
-// symmetric rotational inertia Ic about the centre of mass (world axes):
-//   [Ic + m [c]×[c]×ᵀ, [h]×; [h]×ᵀ, m 1],  h = m c,  Ic + m [c]×[c]×ᵀ = Ic + m (|c|² 1 − c cᵀ).
-// Built entry by entry: only six entries of the rotational block are distinct.
-inline Mat6 spatialInertia(double m, const Vec3& c, const Mat3& Ic) {
-  const Vec3 h = m * c;
-  const double hc = h.dot(c);
-  Mat6 I;
-  I(0, 0) = Ic(0, 0) + hc - h.x() * c.x();
-  I(1, 1) = Ic(1, 1) + hc - h.y() * c.y();
-  I(2, 2) = Ic(2, 2) + hc - h.z() * c.z();
-  I(0, 1) = I(1, 0) = Ic(0, 1) - h.x() * c.y();
-  I(0, 2) = I(2, 0) = Ic(0, 2) - h.x() * c.z();
-  I(1, 2) = I(2, 1) = Ic(1, 2) - h.y() * c.z();
-  I.topRightCorner<3, 3>() = skew(h);
-  I.bottomLeftCorner<3, 3>() = skew(-h);
-  I.bottomRightCorner<3, 3>() = m * Mat3::Identity();
-  return I;
-}
-
-// R J Rᵀ for a symmetric J: one 3×3 product and the six distinct dot products of the second.
-inline Mat3 rotateSymmetric(const Mat3& R, const Mat3& J) {
+// Spatial inertia about the world origin, written into I, of a body with mass m, world centre of
+// mass c and rotational inertia R J Rᵀ about the centre of mass (J symmetric, in body axes):
+//   [Ī, [h]×; [h]×ᵀ, m 1],  h = m c,  Ī = R J Rᵀ + m (|c|² 1 − c cᵀ).
+// Entry by entry and in place: Ī has six distinct entries, each a row of R J dotted with a row of R.
+inline void spatialInertia(double m, const Vec3& c, const Mat3& R, const Mat3& J, Mat6& I) {
   Mat3 A;
   A.noalias() = R * J;
-  Mat3 out;
-  for (int i = 0; i < 3; ++i)
-    for (int j = i; j < 3; ++j) out(i, j) = out(j, i) = A.row(i).dot(R.row(j));
-  return out;
+  const Vec3 h = m * c;
+  const double hc = h.dot(c);
+  I(0, 0) = A.row(0).dot(R.row(0)) + hc - h.x() * c.x();
+  I(1, 1) = A.row(1).dot(R.row(1)) + hc - h.y() * c.y();
+  I(2, 2) = A.row(2).dot(R.row(2)) + hc - h.z() * c.z();
+  I(0, 1) = I(1, 0) = A.row(0).dot(R.row(1)) - h.x() * c.y();
+  I(0, 2) = I(2, 0) = A.row(0).dot(R.row(2)) - h.x() * c.z();
+  I(1, 2) = I(2, 1) = A.row(1).dot(R.row(2)) - h.y() * c.z();
+  I(0, 3) = I(3, 0) = I(1, 4) = I(4, 1) = I(2, 5) = I(5, 2) = 0.0;
+  I(0, 4) = I(4, 0) = -h.z();
+  I(0, 5) = I(5, 0) = h.y();
+  I(1, 3) = I(3, 1) = h.z();
+  I(1, 5) = I(5, 1) = -h.x();
+  I(2, 3) = I(3, 2) = -h.y();
+  I(2, 4) = I(4, 2) = h.x();
+  I.bottomRightCorner<3, 3>() = m * Mat3::Identity();
 }
 
 // 4×4 homogeneous form of a motion vector: d/dt [R t; 0 1] = hat(v) [R t; 0 1].
