@@ -143,9 +143,9 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
     }
   }
   if (m_ > 0) {
-    // J_c only where K needs it: the contact forces enter G through the joints' motion axes.
-    const bool jacobians_needed = kinetic_energy_ == KineticEnergyMeasure::ContactPoints;
-    frameGeometry(system, jacobians_needed);
+    // No J_c: the contact forces enter G through the joints' motion axes, and the contact points'
+    // K through the bodies' velocities.
+    frameGeometry(system, false);
     system.contact_model->evaluate(frames, *system.terrain, wrenches, false);
     addContactForces(system, w);
   }
@@ -156,7 +156,8 @@ double StepResidual::bodyKineticEnergy(const Model& model) const {
   double T = 0.0;
   for (int k = 0; k < model.nq; ++k) {
     const double a = model.bodies[k].armature, qd = data.qd_work[k];
-    T += data.v[k].dot(data.Iw[k] * data.v[k]) + a * qd * qd;
+    const double body = model.bodies[k].hasInertia() ? data.v[k].dot(data.Iw[k] * data.v[k]) : 0.0;  // Iw = 0 otherwise
+    T += body + a * qd * qd;
   }
   return 0.5 * T;
 }
@@ -181,15 +182,18 @@ void StepResidual::contactPointEnergy(const Model& model, bool derivatives) {
   }
   const double inv_h = 1.0 / h_;
   for (size_t c = 0; c < jacobians.size(); ++c) {
-    const auto J = jacobians[c].bottomRows<3>();
-    Vec3 u;
-    if (form_ == Form::NewtonEuler) {
-      u.setZero();
-      for (int j : contact_chains_[c]) u += J.col(j) * data.qd_work[j];
-    } else
+    // NE: u = J_c θ̇, the velocity of the point on its body (RNEA's world velocity at the origin,
+    // moved to the point), which needs no J_c: the value-only evaluation does not build it.
+    Vec3 u = Vec3::Zero();
+    if (form_ != Form::NewtonEuler)
       u = (frames[c].position - contact_points_n_[c]) * inv_h;
+    else if (contact_bodies_[c] >= 0) {
+      const Vec6& v = data.v[contact_bodies_[c]];
+      u = v.tail<3>() + v.head<3>().cross(frames[c].position);
+    }
     K += 0.5 * u.squaredNorm();
     if (!derivatives) continue;
+    const auto J = jacobians[c].bottomRows<3>();
     const double inv_h2 = inv_h * inv_h;
     for (int j : contact_chains_[c]) {
       grad_K[j] += J.col(j).dot(u) * inv_h;
