@@ -54,6 +54,7 @@ StepSolver::StepSolver(const System& system)
   const int m = residual_.weightCount();
   K_vertices_ = C > 0 ? m / C : 0;
   lu_.resize(n);
+  anderson_.resize(n, kAndersonMemory);
   qp_.resize(std::vector<int>(C, K_vertices_));
   warm_.at_bound.assign(m, 0);
   warm_.cap.assign(C, 0);
@@ -112,8 +113,11 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
   // The factorization of ∂G/∂θ at a nearby iterate (at first the current PGM iterate's, which D
   // used) is kept while its steps contract ‖G‖₂ by kRefreshContraction (chord steps: values of G
   // only, a fifth of the cost); it is refreshed at the current θ when they do not or fail, and only
-  // a fresh factorization whose step fails is divergence.
+  // a fresh factorization whose step fails is divergence. Anderson acceleration combines the steps
+  // taken with one factorization, which undoes most of its staleness (the chord steps alone
+  // contract ‖G‖ at a steady 0.07–0.3 per step on the trot).
   bool evaluated_with_derivatives = refresh;
+  anderson_.reset();
   for (int it = 0;; ++it) {
     if (norm <= tolerance) return true;
     if (it == options.projection_max_iterations) return false;
@@ -126,9 +130,11 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
       if (!factorization_valid_) return false;
       fresh = true;
       refresh = evaluated_with_derivatives = false;
+      anderson_.reset();
     }
     step_ = -residual_.G;
     lu_.solveInPlace(step_);
+    anderson_.accelerate(theta, step_);
     ++stats.newton_iterations;
     double trial_merit = 0.0;
     bool decreased = false;

@@ -13,7 +13,8 @@
 // The zeroth-order variants never ask the model for dV/dξ: D and Newton use central differences of V
 // (ZerothOrderJacobian::FiniteDifference) or the paper's ∂Ḡ/∂θ with that term dropped.
 //
-// Proj(θ, w): Newton on G(·, w) = 0 with a complete-pivoting LU (rank-revealing, as FullPivLU). A Newton step is
+// Proj(θ, w): Newton on G(·, w) = 0 with a complete-pivoting LU (rank-revealing, as FullPivLU), kept
+// across steps while they contract (chord steps, Anderson-accelerated). A Newton step is
 // accepted only if ‖G‖₂ decreases; a step that still does not after projection_backtracking
 // halvings, a rank-deficient Jacobian, or the iteration cap is divergence (the paper notes the
 // projection can diverge without a line search; the stiff contact makes the full step overshoot on
@@ -28,6 +29,7 @@
 #pragma once
 #include <Eigen/Cholesky>
 
+#include "solver/anderson_acceleration.hpp"
 #include "solver/capped_simplex_qp.hpp"
 #include "solver/complete_pivoting_lu.hpp"
 #include "solver/step_residual.hpp"
@@ -75,8 +77,11 @@ class StepSolver {
   bool warm_valid_ = false;
   CompletePivotingLu lu_;
   bool factorization_valid_ = false;  // lu_ factors a full-rank ∂G/∂θ of this step at some iterate
-  // Newton keeps an old factorization while each step shrinks ‖G‖₂ at least by this factor.
-  static constexpr double kRefreshContraction = 0.3;
+  // Newton keeps an old factorization while each (accelerated) step shrinks ‖G‖₂ at least by this
+  // factor; Anderson acceleration of those chord steps remembers this many of them.
+  static constexpr double kRefreshContraction = 0.5;
+  static constexpr int kAndersonMemory = 3;
+  AndersonAcceleration anderson_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
   Eigen::MatrixXd D_, Q_, HD_;
