@@ -84,13 +84,22 @@ void CoulombModel::evaluate(const std::vector<ContactFrame>& frames, const Terra
     // d^{p−1}; the usual integer exponents without pow().
     const double dp1 = !(d > 0.0) ? 0.0 : p == 3.0 ? d * d : p == 2.0 ? d : std::pow(d, p - 1.0);
     const double s = k * (dp1 * d + params_.zeta);             // k (d^p + ζ)
-    const Vec3 arm = -r * n;                                   // from the centre to the lowest point
-
-    for (int i = 0; i < K; ++i) {
-      const Vec3 F = s * (n + mu * (cos_[i] * t1 + sin_[i] * t2));
-      o.V.col(i).head<3>() = arm.cross(F);
-      o.V.col(i).tail<3>() = F;
-    }
+    // Column i of σ [−r n × u_i; u_i] with u_i = n + μ (cos φ_i t₁ + sin φ_i t₂): V for σ = s, and
+    // on flat terrain dV for σ = ∂s. As n × t₁ = t₂ and n × t₂ = −t₁ it is cos φ_i A + sin φ_i B + C
+    // with A = σ [−r μ t₂; μ t₁], B = σ [r μ t₁; μ t₂], C = σ [0; n]: whole 6-vectors, no cross
+    // product per vertex.
+    const auto fillCone = [&](double sigma, Mat6X& M) {
+      const Vec3 T1 = (sigma * mu) * t1, T2 = (sigma * mu) * t2;
+      Vec6 A, B, C;
+      A.head<3>() = -r * T2;
+      A.tail<3>() = T1;
+      B.head<3>() = r * T1;
+      B.tail<3>() = T2;
+      C.head<3>().setZero();
+      C.tail<3>() = sigma * n;
+      for (int i = 0; i < K; ++i) M.col(i) = cos_[i] * A + sin_[i] * B + C;
+    };
+    fillCone(s, o.V);
     if (!with_derivatives) continue;
 
     // Rotations about the sphere centre change nothing: the model depends on the point only.
@@ -102,15 +111,15 @@ void CoulombModel::evaluate(const std::vector<ContactFrame>& frames, const Terra
       const Vec3 dn = q.normal_jacobian.col(j);
       Mat6X& dV = o.dV[3 + j];
       if (dn.isZero(0.0)) {  // the normal does not turn (flat terrain): dt = darm = du = 0, the same values
-        for (int i = 0; i < K; ++i) {
-          const Vec3 dF = ds * (n + mu * (cos_[i] * t1 + sin_[i] * t2));
-          dV.col(i).head<3>() = arm.cross(dF);
-          dV.col(i).tail<3>() = dF;
+        if (ds == 0.0) {     // in the air, or a direction along the plane
+          dV.setZero();
+        } else {
+          fillCone(ds, dV);
         }
         continue;
       }
       const Vec3 dt1 = dt1_dn * dn, dt2 = dt2_dn * dn;
-      const Vec3 darm = -r * dn;
+      const Vec3 arm = -r * n, darm = -r * dn;  // the lowest point, from the centre
       for (int i = 0; i < K; ++i) {
         const Vec3 u = n + mu * (cos_[i] * t1 + sin_[i] * t2);
         const Vec3 du = dn + mu * (cos_[i] * dt1 + sin_[i] * dt2);

@@ -124,6 +124,9 @@ void addJacobianTransposeWrenchDerivative(const Model& model, const Data& data, 
     const Vec3 bj = vj.cross(force);                      // paired with joints j' before j
     out(j, j) += wj.dot(aj);
     for (int l = model.bodies[j].parent; l >= 0; l = model.bodies[l].parent) {
+      // ω_l = 0 for a prismatic l (the base translations, ancestors of every contact): both
+      // entries vanish.
+      if (model.bodies[l].kind == JointKind::Prismatic) continue;
       out(j, l) += data.S[l].head<3>().dot(aj);
       out(l, j) += data.S[l].head<3>().dot(bj);
     }
