@@ -35,8 +35,12 @@ inline void inertiaRate(const Mat6& I, const Vec6& v, Mat6& out) {
 
 void rneaDerivatives(const Model& model, Data& data, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                      const Eigen::VectorXd& qdd) {
-  const int n = model.nq;
   rnea(model, data, q, qd, qdd);  // kinematics, v, a, composite forces F (in data.f), τ
+  rneaDerivativesAfterRnea(model, data);
+}
+
+void rneaDerivativesAfterRnea(const Model& model, Data& data) {
+  const int n = model.nq;
 
   Vec6 a0;
   a0 << Vec3::Zero(), -model.gravity;

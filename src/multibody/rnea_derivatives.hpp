@@ -8,4 +8,7 @@ namespace nmdp {
 void rneaDerivatives(const Model& model, Data& data, const Eigen::VectorXd& q, const Eigen::VectorXd& qd,
                      const Eigen::VectorXd& qdd);
 
+// The same after rnea(model, data, q, qd, qdd) has run with those arguments (data holds its results).
+void rneaDerivativesAfterRnea(const Model& model, Data& data);
+
 }  // namespace nmdp

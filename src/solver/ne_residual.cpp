@@ -10,13 +10,15 @@ void neInertialResidual(const Model& model, Data& data, const Eigen::VectorXd& t
   const double inv_h = 1.0 / h;
   data.qd_work = (theta - q_n) * inv_h;
   data.qdd_work = (data.qd_work - qd_n) * inv_h;
-  if (dG_dtheta) {
-    rneaDerivatives(model, data, theta, data.qd_work, data.qdd_work);
-    dG_dtheta->noalias() = data.dtau_dq + inv_h * data.dtau_dv + (inv_h * inv_h) * data.H;
-  } else {
-    rnea(model, data, theta, data.qd_work, data.qdd_work);
-  }
+  rnea(model, data, theta, data.qd_work, data.qdd_work);
+  if (dG_dtheta) neInertialJacobian(model, data, h, *dG_dtheta);
   G = data.tau;
+}
+
+void neInertialJacobian(const Model& model, Data& data, double h, Eigen::MatrixXd& dG_dtheta) {
+  const double inv_h = 1.0 / h;
+  rneaDerivativesAfterRnea(model, data);
+  dG_dtheta.noalias() = data.dtau_dq + inv_h * data.dtau_dv + (inv_h * inv_h) * data.H;
 }
 
 }  // namespace nmdp

@@ -10,4 +10,7 @@ namespace nmdp {
 void neInertialResidual(const Model& model, Data& data, const Eigen::VectorXd& theta, const Eigen::VectorXd& q_n,
                         const Eigen::VectorXd& qd_n, double h, Eigen::VectorXd& G, Eigen::MatrixXd* dG_dtheta);
 
+// ∂G/∂θ alone, after neInertialResidual() at the same θ (data holds its RNEA).
+void neInertialJacobian(const Model& model, Data& data, double h, Eigen::MatrixXd& dG_dtheta);
+
 }  // namespace nmdp

@@ -76,43 +76,52 @@ void StepResidual::prepare(const System& system, Form form, double h, const Eige
 
 void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
                             ContactDerivative derivative) {
+  if (form_ == Form::NewtonEuler) {
+    evaluateValue(system, theta, w);
+    addDerivatives(system, theta, w, derivative);
+    return;
+  }
   const Model& model = *system.model;
   const double inv_h2 = 1.0 / (h_ * h_);
-  if (form_ == Form::NewtonEuler) {
-    neInertialResidual(model, data, theta, q_n_, qd_n_, h_, G, &dG_dtheta);
-    pdTorque(system.gains, target_, theta, q_n_, h_, work_);
-    G -= work_;
-    if (system.external_force.size() != 0) G -= system.external_force;
-    dG_dtheta.diagonal() += pd_hessian_;
-    // data.qd_work = θ̇ and data.H = H(θ) after neInertialResidual.
-    work_.noalias() = data.H * data.qd_work;
-    K = bodyKineticEnergy(model);  // the formula evaluateValue() uses: K compares across the two
-    grad_K = work_ / h_;
-    addKineticEnergyConfigurationGradient(model);
-    hess_K = data.H * inv_h2;
-  } else {
-    forwardKinematics(model, data, theta);
-    transformEnergy(model, data, inertial_targets_, h_, &G, &dG_dtheta);
-    gravityPotential(model, data, &work_, &hess_work_);
-    G += work_;
-    dG_dtheta += hess_work_;
-    pdPotentialGradient(system.gains, target_, theta, q_n_, h_, work_);
-    G += work_;
-    if (system.external_force.size() != 0) G -= system.external_force;
-    dG_dtheta.diagonal() += pd_hessian_;
-    K = transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K);
-    for (int j = 0; j < n_; ++j) {
-      const double a = model.bodies[j].armature;
-      if (a == 0.0) continue;
-      const double inertial = theta[j] - armature_target_[j], kinetic = theta[j] - q_n_[j];
-      G[j] += a * inertial * inv_h2;
-      dG_dtheta(j, j) += a * inv_h2;
-      K += 0.5 * a * kinetic * kinetic * inv_h2;
-      grad_K[j] += a * kinetic * inv_h2;
-      hess_K(j, j) += a * inv_h2;
-    }
+  forwardKinematics(model, data, theta);
+  transformEnergy(model, data, inertial_targets_, h_, &G, &dG_dtheta);
+  gravityPotential(model, data, &work_, &hess_work_);
+  G += work_;
+  dG_dtheta += hess_work_;
+  pdPotentialGradient(system.gains, target_, theta, q_n_, h_, work_);
+  G += work_;
+  if (system.external_force.size() != 0) G -= system.external_force;
+  dG_dtheta.diagonal() += pd_hessian_;
+  K = transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K);
+  for (int j = 0; j < n_; ++j) {
+    const double a = model.bodies[j].armature;
+    if (a == 0.0) continue;
+    const double inertial = theta[j] - armature_target_[j], kinetic = theta[j] - q_n_[j];
+    G[j] += a * inertial * inv_h2;
+    dG_dtheta(j, j) += a * inv_h2;
+    K += 0.5 * a * kinetic * kinetic * inv_h2;
+    grad_K[j] += a * kinetic * inv_h2;
+    hess_K(j, j) += a * inv_h2;
   }
-  if (m_ > 0) addContacts(system, w, derivative);
+  if (m_ > 0) {
+    addContactDerivatives(system, w, derivative);
+    addContactForces(system, w);
+  }
+  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, true);
+}
+
+void StepResidual::addDerivatives(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
+                                  ContactDerivative derivative) {
+  if (form_ != Form::NewtonEuler) return evaluate(system, theta, w, derivative);
+  // The value evaluation at θ left RNEA's velocities, accelerations and forces in data.
+  const Model& model = *system.model;
+  neInertialJacobian(model, data, h_, dG_dtheta);
+  dG_dtheta.diagonal() += pd_hessian_;
+  work_.noalias() = data.H * data.qd_work;
+  grad_K = work_ / h_;
+  addKineticEnergyConfigurationGradient(model);
+  hess_K = data.H * (1.0 / (h_ * h_));
+  if (m_ > 0) addContactDerivatives(system, w, derivative);
   if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, true);
 }
 
@@ -174,7 +183,7 @@ void StepResidual::addKineticEnergyConfigurationGradient(const Model& model) {
 }
 
 void StepResidual::contactPointEnergy(const Model& model, bool derivatives) {
-  // After addContacts: jacobians at θ; NE: data.v holds the bodies' world velocities at θ̇.
+  // After addContactDerivatives: jacobians at θ; NE: data.v holds the bodies' world velocities at θ̇.
   K = 0.0;
   if (derivatives) {
     grad_K.setZero();
@@ -251,7 +260,7 @@ void StepResidual::contactGeometry(const System& system, ContactDerivative deriv
       B.row(j).segment(c * K_vertices_, K_vertices_).noalias() = jacobians[c].col(j).transpose() * wrenches[c].V;
 }
 
-void StepResidual::addContacts(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative) {
+void StepResidual::addContactDerivatives(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative) {
   const Model& model = *system.model;
   contactGeometry(system, derivative);
   const int C = static_cast<int>(system.contacts.size());
@@ -260,7 +269,6 @@ void StepResidual::addContacts(const System& system, const Eigen::VectorXd& w, C
     const std::vector<int>& chain = contact_chains_[c];
     const auto w_c = w.segment(c * K_vertices_, K_vertices_);
     const Vec6 f = wrenches[c].V * w_c;
-    for (int j : chain) G[j] -= J.col(j).dot(f);
     const int body = model.links[system.contacts[c].link].body;
     if (body < 0) continue;  // welded to the world: J = 0
     addJacobianTransposeWrenchDerivative(model, data, body, frames[c].position, -f, dG_dtheta);

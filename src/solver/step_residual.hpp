@@ -43,10 +43,15 @@ class StepResidual {
   void evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
                 ContactDerivative derivative);
 
-  // G and K only (with the contact frames and V_c; J_c only for contact-point K, else they keep
-  // their previous values): what Newton's line search needs, at about a quarter of the cost.
-  // ∂G/∂θ, B, ∇K and ∇²K keep their previous values.
+  // G and K only (with the contact frames and V_c; J_c keep their previous values): what Newton's
+  // line search needs, at about a fifth of the cost. ∂G/∂θ, B, ∇K and ∇²K keep their previous values.
   void evaluateValue(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w);
+
+  // What evaluate() adds to evaluateValue(): ∂G/∂θ, B, ∇K, ∇²K, J_c (and dV/dξ), at the (θ, w) of
+  // the last evaluation, whose kinematics and RNEA it reuses (NE: evaluate() is evaluateValue() and
+  // this). PBD evaluates from scratch.
+  void addDerivatives(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
+                      ContactDerivative derivative);
 
   // Kinematics, contact frames, Jacobians, V_c (no derivative) and B at q only (ne-mdp).
   void evaluateContacts(const System& system, const Eigen::VectorXd& q);
@@ -69,7 +74,8 @@ class StepResidual {
   Data data;
 
  private:
-  void addContacts(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative);
+  // ∂G/∂θ's contact terms (J_c, V_c, dV/dξ and B on the way); G's contact forces are addContactForces'.
+  void addContactDerivatives(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative);
   void contactGeometry(const System& system, ContactDerivative derivative);  // frames, J_c, V_c, dV/dξ, B
   void frameGeometry(const System& system, bool with_jacobians);  // frames (and J_c)
   void addContactForces(const System& system, const Eigen::VectorXd& w);  // G −= Σ J_cᵀ V_c w_c

@@ -117,13 +117,17 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
   // taken with one factorization, which undoes most of its staleness (the chord steps alone
   // contract ‖G‖ at a steady 0.07–0.3 per step on the trot).
   bool evaluated_with_derivatives = refresh;
+  bool values_at_theta = true;  // the residual's last evaluation is at θ (to be completed, not redone)
   anderson_.reset();
   for (int it = 0;; ++it) {
     if (norm <= tolerance) return true;
     if (it == options.projection_max_iterations) return false;
     if (refresh) {
       if (!evaluated_with_derivatives) {
-        residual_.evaluate(system, theta, w, derivative);
+        if (values_at_theta)
+          residual_.addDerivatives(system, theta, w, derivative);
+        else
+          residual_.evaluate(system, theta, w, derivative);
         ++stats.g_evaluations;
       }
       factorization_valid_ = lu_.compute(residual_.dG_dtheta) == n;
@@ -154,9 +158,11 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
     if (!decreased) {
       if (fresh) return false;  // divergence (also catches NaN)
       refresh = true;  // at θ (the residual holds the trial's values until then)
+      values_at_theta = false;
       continue;
     }
     theta.swap(theta_trial_);
+    values_at_theta = true;
     refresh = trial_merit > kRefreshContraction * merit;
     fresh = false;
     merit = trial_merit;
@@ -199,7 +205,10 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
     ++stats.outer_iterations;
     if (need_direction) {
       if (!derivatives_here) {
-        residual_.evaluate(system, theta_, w_, derivative);
+        if (evaluated_here)  // by the projection that ended at θ
+          residual_.addDerivatives(system, theta_, w_, derivative);
+        else
+          residual_.evaluate(system, theta_, w_, derivative);
         ++stats.g_evaluations;
         derivatives_here = evaluated_here = true;
       }
