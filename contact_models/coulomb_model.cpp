@@ -111,11 +111,10 @@ void CoulombModel::evaluate(const std::vector<ContactFrame>& frames, const Terra
       const Vec3 dn = q.normal_jacobian.col(j);
       Mat6X& dV = o.dV[3 + j];
       if (dn.isZero(0.0)) {  // the normal does not turn (flat terrain): dt = darm = du = 0, the same values
-        if (ds == 0.0) {     // in the air, or a direction along the plane
+        if (ds == 0.0)       // in the air, or a direction along the plane: cheaper than filling zeros
           dV.setZero();
-        } else {
+        else
           fillCone(ds, dV);
-        }
         continue;
       }
       const Vec3 dt1 = dt1_dn * dn, dt2 = dt2_dn * dn;

@@ -104,6 +104,7 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
     hess_K(j, j) += a * inv_h2;
   }
   if (m_ > 0) {
+    frameGeometry(system);
     addContactDerivatives(system, w, derivative);
     addContactForces(system, w);
   }
@@ -113,7 +114,8 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
 void StepResidual::addDerivatives(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
                                   ContactDerivative derivative) {
   if (form_ != Form::NewtonEuler) return evaluate(system, theta, w, derivative);
-  // The value evaluation at θ left RNEA's velocities, accelerations and forces in data.
+  // The value evaluation at θ left RNEA's velocities, accelerations and forces in data, and the
+  // contact frames.
   const Model& model = *system.model;
   neInertialJacobian(model, data, h_, dG_dtheta);
   dG_dtheta.diagonal() += pd_hessian_;
@@ -154,7 +156,7 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
   if (m_ > 0) {
     // No J_c: the contact forces enter G through the joints' motion axes, and the contact points'
     // K through the bodies' velocities.
-    frameGeometry(system, false);
+    frameGeometry(system);
     system.contact_model->evaluate(frames, *system.terrain, wrenches, false);
     addContactForces(system, w);
   }
@@ -226,15 +228,13 @@ void StepResidual::contactPointEnergy(const Model& model, bool derivatives) {
 
 void StepResidual::evaluateContacts(const System& system, const Eigen::VectorXd& q) {
   forwardKinematics(*system.model, data, q);
-  if (m_ > 0) contactGeometry(system, ContactDerivative::Dropped);
+  if (m_ == 0) return;
+  frameGeometry(system);
+  contactGeometry(system, ContactDerivative::Dropped);
 }
 
-void StepResidual::frameGeometry(const System& system, bool with_jacobians) {
-  const Model& model = *system.model;
-  for (size_t c = 0; c < system.contacts.size(); ++c) {
-    contactFrame(model, data, system.contacts[c], frames[c]);
-    if (with_jacobians) contactJacobian(model, data, system.contacts[c], jacobians[c]);
-  }
+void StepResidual::frameGeometry(const System& system) {
+  for (size_t c = 0; c < system.contacts.size(); ++c) contactFrame(*system.model, data, system.contacts[c], frames[c]);
 }
 
 void StepResidual::addContactForces(const System& system, const Eigen::VectorXd& w) {
@@ -250,7 +250,7 @@ void StepResidual::addContactForces(const System& system, const Eigen::VectorXd&
 
 void StepResidual::contactGeometry(const System& system, ContactDerivative derivative) {
   const int C = static_cast<int>(system.contacts.size());
-  frameGeometry(system, true);
+  for (int c = 0; c < C; ++c) contactJacobian(*system.model, data, system.contacts[c], jacobians[c]);
   system.contact_model->evaluate(frames, *system.terrain, wrenches, derivative == ContactDerivative::Model);
   if (derivative == ContactDerivative::FiniteDifference)
     finite_difference_.evaluate(*system.contact_model, frames, *system.terrain, wrenches);

@@ -74,10 +74,11 @@ class StepResidual {
   Data data;
 
  private:
-  // ∂G/∂θ's contact terms (J_c, V_c, dV/dξ and B on the way); G's contact forces are addContactForces'.
+  // ∂G/∂θ's contact terms (J_c, V_c, dV/dξ and B on the way), at the current contact frames; G's
+  // contact forces are addContactForces'.
   void addContactDerivatives(const System& system, const Eigen::VectorXd& w, ContactDerivative derivative);
-  void contactGeometry(const System& system, ContactDerivative derivative);  // frames, J_c, V_c, dV/dξ, B
-  void frameGeometry(const System& system, bool with_jacobians);  // frames (and J_c)
+  void contactGeometry(const System& system, ContactDerivative derivative);  // J_c, V_c, dV/dξ, B at the frames
+  void frameGeometry(const System& system);  // the contact frames
   void addContactForces(const System& system, const Eigen::VectorXd& w);  // G −= Σ J_cᵀ V_c w_c
 
   // NE: K = ½ Σ_k v_kᵀ I_k v_k + ½ Σ_j a_j θ̇_j² from RNEA's world velocities (= ½ θ̇ᵀ H θ̇).
