@@ -119,10 +119,12 @@ void StepResidual::addDerivatives(const System& system, const Eigen::VectorXd& t
   const Model& model = *system.model;
   neInertialJacobian(model, data, h_, dG_dtheta);
   dG_dtheta.diagonal() += pd_hessian_;
-  work_.noalias() = data.H * data.qd_work;
-  grad_K = work_ / h_;
-  addKineticEnergyConfigurationGradient(model);
-  hess_K = data.H * (1.0 / (h_ * h_));
+  if (kinetic_energy_ == KineticEnergyMeasure::FullBody) {
+    work_.noalias() = data.H * data.qd_work;
+    grad_K = work_ / h_;
+    addKineticEnergyConfigurationGradient(model);
+    hess_K = data.H * (1.0 / (h_ * h_));
+  }
   if (m_ > 0) addContactDerivatives(system, w, derivative);
   if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, true);
 }
@@ -135,7 +137,8 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
     pdTorque(system.gains, target_, theta, q_n_, h_, work_);
     G -= work_;
     if (system.external_force.size() != 0) G -= system.external_force;
-    K = bodyKineticEnergy(model);
+    // (The contact-point K is computed below, from the same RNEA velocities.)
+    if (kinetic_energy_ == KineticEnergyMeasure::FullBody) K = bodyKineticEnergy(model);
   } else {
     forwardKinematics(model, data, theta);
     transformEnergy(model, data, inertial_targets_, h_, &G, nullptr);
