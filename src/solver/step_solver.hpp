@@ -68,8 +68,8 @@ class StepSolver {
   void scaleFromQ();          // penalty_scale_ from the diagonal of Q_
   bool solveQp(double beta);  // Δw into dw_ with the penalty β·diag(penalty_scale_); false if the QP failed
   // Whether dw_ is a step to try: its contact force change above tol_w·m‖g‖, and predicted to lower
-  // K by more than K can resolve.
-  bool stepIsWorthTaking(const IntegratorOptions& options, double K);
+  // K by more than K can resolve and more than least_decrease.
+  bool stepIsWorthTaking(const IntegratorOptions& options, double K, double least_decrease);
 
   StepResidual residual_;
   CappedSimplexQp qp_;
