@@ -209,9 +209,18 @@ void StepResidual::contactPointEnergy(const Model& model, bool derivatives) {
     if (!derivatives) continue;
     const auto J = jacobians[c].bottomRows<3>();
     const double inv_h2 = inv_h * inv_h;
-    for (int j : contact_chains_[c]) {
+    const std::vector<int>& chain = contact_chains_[c];
+    for (size_t a = 0; a < chain.size(); ++a) {
+      const int j = chain[a];
       grad_K[j] += J.col(j).dot(u) * inv_h;
-      for (int l : contact_chains_[c]) hess_K(j, l) += inv_h2 * J.col(j).dot(J.col(l));
+      // J_cᵀJ_c is symmetric: each pair once (the same products, so the same bits).
+      for (size_t b = 0; b < a; ++b) {
+        const int l = chain[b];
+        const double entry = inv_h2 * J.col(j).dot(J.col(l));
+        hess_K(j, l) += entry;
+        hess_K(l, j) += entry;
+      }
+      hess_K(j, j) += inv_h2 * J.col(j).dot(J.col(j));
     }
     if (form_ != Form::NewtonEuler || contact_bodies_[c] < 0) continue;
     // NE: u = J(θ) θ̇ also moves with θ at fixed θ̇. For q_l ⪯ body k the body's world velocity
