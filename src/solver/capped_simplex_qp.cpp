@@ -6,6 +6,72 @@
 
 namespace nmdp {
 
+// Plain loops for the small (≤ n×n, n = Σ K_c ≈ 24) dense kernels: Eigen's dynamic-size triangular
+// solve, blocked Cholesky and gemv spend more on dispatch and blocking than on flops at these sizes.
+// L is column-major lower triangular with leading dimension ld.
+namespace {
+
+// x ← L⁻¹x (column oriented: contiguous axpys), starting at row `first` (x[0..first) is zero).
+void lowerSolve(const double* L, Eigen::Index ld, int k, double* x, int first = 0) {
+  for (int j = first; j < k; ++j) {
+    const double* Lj = L + j * ld;
+    const double xj = x[j] / Lj[j];
+    x[j] = xj;
+    for (int i = j + 1; i < k; ++i) x[i] -= Lj[i] * xj;
+  }
+}
+
+// x ← L⁻ᵀx (row of Lᵀ = column of L: contiguous dots).
+void lowerTransposeSolve(const double* L, Eigen::Index ld, int k, double* x) {
+  for (int j = k - 1; j >= 0; --j) {
+    const double* Lj = L + j * ld;
+    double s = x[j];
+    for (int i = j + 1; i < k; ++i) s -= Lj[i] * x[i];
+    x[j] = s / Lj[j];
+  }
+}
+
+// In-place Cholesky of the lower triangle (right looking). Fails on a pivot ≤ 0, as llt_inplace does.
+bool cholesky(double* A, Eigen::Index ld, int k) {
+  for (int j = 0; j < k; ++j) {
+    double* Aj = A + j * ld;
+    const double d = Aj[j];
+    if (d <= 0.0) return false;
+    const double ljj = std::sqrt(d);
+    Aj[j] = ljj;
+    for (int i = j + 1; i < k; ++i) Aj[i] /= ljj;
+    for (int c = j + 1; c < k; ++c) {
+      double* Ac = A + c * ld;
+      const double lcj = Aj[c];
+      for (int i = c; i < k; ++i) Ac[i] -= Aj[i] * lcj;
+    }
+  }
+  return true;
+}
+
+// y ← Σ_j H(:, j) x_j over the columns j with x_j ≠ 0 (the others add exact zeros).
+void sparseProduct(const Eigen::MatrixXd& H, const Eigen::VectorXd& x, Eigen::VectorXd& y) {
+  const int n = static_cast<int>(H.rows());
+  double* out = y.data();
+  for (int i = 0; i < n; ++i) out[i] = 0.0;
+  for (int j = 0; j < n; ++j) {
+    const double xj = x[j];
+    if (xj == 0.0) continue;
+    const double* Hj = H.data() + static_cast<Eigen::Index>(j) * n;
+    for (int i = 0; i < n; ++i) out[i] += Hj[i] * xj;
+  }
+}
+
+// Whether all entries are finite: x − x is 0 for finite x and NaN otherwise (one vectorizable sum
+// instead of Eigen's element-wise allFinite, which costs more than the rest of a warm solve).
+bool allFinite(const double* x, Eigen::Index size) {
+  double s = 0;
+  for (Eigen::Index i = 0; i < size; ++i) s += x[i] - x[i];
+  return s == 0;
+}
+
+}  // namespace
+
 const char* toString(QpStatus status) {
   switch (status) {
     case QpStatus::Converged: return "converged";
@@ -83,20 +149,25 @@ void CappedSimplexQp::buildCaps() {
 void CappedSimplexQp::solveReduced() {
   const int k = static_cast<int>(free_.size());
   const int m = static_cast<int>(capped_.size());
-  auto L = L_.topLeftCorner(k, k);
-  auto x = y_.head(k);
-  L.triangularView<Eigen::Lower>().solveInPlace(x);
+  double* x = y_.data();
+  lowerSolve(L_.data(), L_.outerStride(), k, x);
   if (m > 0) {
-    auto V = U_.topLeftCorner(k, m);
-    auto nu = nuv_.head(m);
-    nu.noalias() = V.transpose() * x;
-    nu -= rnu_.head(m);
-    auto S = S_.topLeftCorner(m, m);
-    S.triangularView<Eigen::Lower>().solveInPlace(nu);
-    S.triangularView<Eigen::Lower>().adjoint().solveInPlace(nu);
-    x.noalias() -= V * nu;
+    double* nu = nuv_.data();
+    for (int j = 0; j < m; ++j) {
+      const double* Vj = U_.data() + j * U_.outerStride();
+      double s = 0;
+      for (int a = 0; a < k; ++a) s += Vj[a] * x[a];
+      nu[j] = s - rnu_[j];
+    }
+    lowerSolve(S_.data(), S_.outerStride(), m, nu);
+    lowerTransposeSolve(S_.data(), S_.outerStride(), m, nu);
+    for (int j = 0; j < m; ++j) {
+      const double* Vj = U_.data() + j * U_.outerStride();
+      const double nj = nu[j];
+      for (int a = 0; a < k; ++a) x[a] -= Vj[a] * nj;
+    }
   }
-  L.triangularView<Eigen::Lower>().adjoint().solveInPlace(x);
+  lowerTransposeSolve(L_.data(), L_.outerStride(), k, x);
 }
 
 bool CappedSimplexQp::solveEqp() {
@@ -105,27 +176,36 @@ bool CappedSimplexQp::solveEqp() {
   zs_.setZero();
   ds_ = -w_;
   if (k == 0) return m == 0;
-  auto L = L_.topLeftCorner(k, k);
   if (!factor_valid_) {
     for (int b = 0; b < k; ++b)
       for (int a = b; a < k; ++a) L_(a, b) = H_(free_[a], free_[b]);
-    if (Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(L) >= 0) return false;
+    if (!cholesky(L_.data(), L_.outerStride(), k)) return false;
     factor_valid_ = true;
     updates_since_factor_ = 0;
     ++factorizations_;
   }
   if (m > 0) {
-    auto U = U_.topLeftCorner(k, m);
-    U.setZero();
+    U_.topLeftCorner(k, m).setZero();
     for (int a = 0; a < k; ++a) {
       const int j = cap_index_[contact_of_[free_[a]]];
-      if (j >= 0) U(a, j) = 1.0;
+      if (j >= 0) U_(a, j) = 1.0;
     }
-    L.triangularView<Eigen::Lower>().solveInPlace(U);  // V = L⁻¹Eᵀ
-    auto S = S_.topLeftCorner(m, m);
-    for (int a = 0; a < m; ++a)
-      for (int b = 0; b <= a; ++b) S(a, b) = U.col(a).dot(U.col(b));
-    if (Eigen::internal::llt_inplace<double, Eigen::Lower>::blocked(S) >= 0) return false;
+    for (int j = 0; j < m; ++j) {  // V = L⁻¹Eᵀ, from the column's first nonzero (zeros above stay zero)
+      double* Vj = U_.data() + j * U_.outerStride();
+      int first = 0;
+      while (first < k && Vj[first] == 0.0) ++first;
+      lowerSolve(L_.data(), L_.outerStride(), k, Vj, first);
+    }
+    for (int a = 0; a < m; ++a) {
+      const double* Va = U_.data() + a * U_.outerStride();
+      for (int b = 0; b <= a; ++b) {
+        const double* Vb = U_.data() + b * U_.outerStride();
+        double s = 0;
+        for (int r = 0; r < k; ++r) s += Va[r] * Vb[r];
+        S_(a, b) = s;
+      }
+    }
+    if (!cholesky(S_.data(), S_.outerStride(), m)) return false;
   }
   // Displacement form d = z − w (exact Δw = 0 when g = 0, no cancellation against w):
   //   H_SS d_S + Eᵀν = −g_S + H_SF w_F,   E d_S = 1 − E w_S   (fixed: d_F = −w_F).
@@ -134,7 +214,7 @@ bool CappedSimplexQp::solveEqp() {
     xf_[i] = active_.at_bound[i] ? w_[i] : 0.0;
     any_fixed_nonzero = any_fixed_nonzero || xf_[i] != 0.0;
   }
-  if (any_fixed_nonzero) hx_.noalias() = H_ * xf_;
+  if (any_fixed_nonzero) sparseProduct(H_, xf_, hx_);
   for (int a = 0; a < k; ++a) {
     const int ia = free_[a];
     const double s = any_fixed_nonzero ? hx_[ia] - g_[ia] : -g_[ia];
@@ -154,7 +234,7 @@ bool CappedSimplexQp::solveEqp() {
     // residual r − H_SS x − Eᵀν, rc − E x
     xf_.setZero();
     for (int a = 0; a < k; ++a) xf_[free_[a]] = x0_[a];
-    hx_.noalias() = H_ * xf_;
+    sparseProduct(H_, xf_, hx_);
     for (int a = 0; a < k; ++a) {
       const int ia = free_[a];
       double s = r_[a] - hx_[ia];
@@ -222,7 +302,7 @@ void CappedSimplexQp::appendFree(int i) {
   }
   auto l = t_.head(k);
   for (int a = 0; a < k; ++a) l[a] = H_(free_[a], i);
-  L_.topLeftCorner(k, k).triangularView<Eigen::Lower>().solveInPlace(l);
+  lowerSolve(L_.data(), L_.outerStride(), k, l.data());
   const double d2 = H_(i, i) - l.squaredNorm();
   if (!(d2 > 1e-8 * std::abs(H_(i, i)))) {  // (nearly) dependent: factor from scratch
     factor_valid_ = false;
@@ -234,7 +314,7 @@ void CappedSimplexQp::appendFree(int i) {
 }
 
 void CappedSimplexQp::computeGradient() {
-  grad_.noalias() = H_ * d_;
+  sparseProduct(H_, d_, grad_);
   grad_ += g_;
 }
 
@@ -244,7 +324,7 @@ QpResult CappedSimplexQp::solve(const Eigen::MatrixXd& Q, double beta, const Eig
   const int n = n_;
   const int C = contacts();
   if (Q.rows() != n || Q.cols() != n || g.size() != n || w.size() != n || !(beta >= 0) || !std::isfinite(beta) ||
-      !Q.allFinite() || !g.allFinite() || !w.allFinite()) {
+      !allFinite(Q.data(), Q.size()) || !allFinite(g.data(), g.size()) || !allFinite(w.data(), w.size())) {
     result.status = QpStatus::InvalidInput;
     return result;
   }
