@@ -5,6 +5,16 @@
 
 namespace nmdp {
 
+namespace {
+// M w for a 6×K vertex matrix: K inline 6-wide axpys (Eigen's general matrix-vector product costs
+// more in dispatch than in flops at K ≈ 6).
+inline Vec6 combine(const Mat6X& M, const double* w) {
+  Vec6 r = M.col(0) * w[0];
+  for (Eigen::Index k = 1; k < M.cols(); ++k) r += M.col(k) * w[k];
+  return r;
+}
+}  // namespace
+
 StepResidual::StepResidual(const System& system)
     : data(*system.model),
       data_prev_(*system.model),
@@ -40,7 +50,8 @@ StepResidual::StepResidual(const System& system)
   work_.setZero(n_);
   work2_.setZero(n_);
   hess_work_.setZero(n_, n_);
-  vertex_jacobian_.setZero(6, n_);
+  chain_jacobian_transpose_.setZero(n_, 6);
+  chain_column_.setZero(n_);
   transforms_n_.resize(n_);
   transforms_prev_.resize(n_);
   inertial_targets_.resize(n_);
@@ -253,7 +264,7 @@ void StepResidual::addContactForces(const System& system, const Eigen::VectorXd&
   // J_cᵀ f = S_jᵀ f_O on the chain, with f_O = [τ + p × F; F] the wrench moved from the sphere
   // centre p to the world origin, where the motion axes S_j are expressed.
   for (size_t c = 0; c < system.contacts.size(); ++c) {
-    const Vec6 f = wrenches[c].V * w.segment(c * K_vertices_, K_vertices_);
+    const Vec6 f = combine(wrenches[c].V, w.data() + c * K_vertices_);
     Vec6 f_origin = f;
     f_origin.head<3>() += frames[c].position.cross(Vec3(f.tail<3>()));
     for (int j : contact_chains_[c]) G[j] -= data.S[j].dot(f_origin);
@@ -280,17 +291,26 @@ void StepResidual::addContactDerivatives(const System& system, const Eigen::Vect
     const Mat6X& J = jacobians[c];
     const std::vector<int>& chain = contact_chains_[c];
     const auto w_c = w.segment(c * K_vertices_, K_vertices_);
-    const Vec6 f = wrenches[c].V * w_c;
+    const Vec6 f = combine(wrenches[c].V, w_c.data());
     const int body = model.links[system.contacts[c].link].body;
     if (body < 0) continue;  // welded to the world: J = 0
     addJacobianTransposeWrenchDerivative(model, data, body, frames[c].position, -f, dG_dtheta);
     if (derivative == ContactDerivative::Dropped) continue;
-    // ∂(V_c w_c)/∂θ = [dV/dξ_0 w_c, …, dV/dξ_5 w_c] J_c, nonzero on the chain's columns only.
+    // ∂(V_c w_c)/∂θ = [dV/dξ_0 w_c, …, dV/dξ_5 w_c] J_c, nonzero on the chain's columns only. Each
+    // column of J_cᵀ(∂(V_c w_c)/∂θ) is one 6-term combination of J_cᵀ's gathered chain rows (contiguous,
+    // vectorized) instead of a 6-D dot product per entry.
     Mat6 df_dxi;
-    for (int i = 0; i < 6; ++i) df_dxi.col(i).noalias() = wrenches[c].dV[i] * w_c;
-    for (int l : chain) vertex_jacobian_.col(l).noalias() = df_dxi * J.col(l);
-    for (int l : chain)
-      for (int j : chain) dG_dtheta(j, l) -= J.col(j).dot(vertex_jacobian_.col(l));
+    for (int i = 0; i < 6; ++i) df_dxi.col(i) = combine(wrenches[c].dV[i], w_c.data());
+    const int L = static_cast<int>(chain.size());
+    for (int a = 0; a < L; ++a) chain_jacobian_transpose_.row(a) = J.col(chain[a]).transpose();
+    const auto JT = chain_jacobian_transpose_.topRows(L);
+    auto column = chain_column_.head(L);
+    for (int b = 0; b < L; ++b) {
+      const Vec6 v = df_dxi * J.col(chain[b]);
+      column = JT.col(0) * v[0] + JT.col(1) * v[1] + JT.col(2) * v[2] + JT.col(3) * v[3] + JT.col(4) * v[4] +
+               JT.col(5) * v[5];
+      for (int a = 0; a < L; ++a) dG_dtheta(chain[a], chain[b]) -= column[a];
+    }
   }
 }
 

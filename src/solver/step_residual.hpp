@@ -97,7 +97,10 @@ class StepResidual {
   PdTarget target_;
   Eigen::VectorXd pd_hessian_, work_, work2_;
   Eigen::MatrixXd hess_work_;
-  Eigen::MatrixXd vertex_jacobian_;  // 6×n: ∂(V_c w_c)/∂θ
+  // One contact's chain gathered: J_cᵀ on its rows (contiguous columns for the products), and a
+  // column of J_cᵀ ∂(V_c w_c)/∂θ.
+  Eigen::Matrix<double, Eigen::Dynamic, 6> chain_jacobian_transpose_;
+  Eigen::VectorXd chain_column_;
   BodyTransforms transforms_n_, transforms_prev_, inertial_targets_;
   Eigen::VectorXd armature_target_;
   Data data_prev_;  // kinematics of q_n and q_prev (PBD targets)
