@@ -1,5 +1,5 @@
 // CompletePivotingLu against Eigen::FullPivLU: the same pivots (so the same factors), the same rank
-// on rank-deficient matrices, and solves of one and of many right-hand sides; and against plain
+// on rank-deficient matrices, and solves of one and of many right-hand sides and with Aᵀ; and against plain
 // loops of the same algorithm, bit for bit.
 #include "solver/complete_pivoting_lu.hpp"
 
@@ -54,6 +54,13 @@ TEST(CompletePivotingLu, FactorsAsFullPivLuAndSolves) {
     lu.solveInPlace(x);
     EXPECT_LT((a * x - b).norm(), 1e-12 * a.norm() * x.norm()) << "n = " << n;
     EXPECT_LT((x - eigen.solve(b)).norm(), 1e-10 * x.norm()) << "n = " << n;
+
+    // The adjoint solve: Aᵀ y = b, against FullPivLU's factorization of Aᵀ.
+    Eigen::VectorXd y = b;
+    lu.solveTransposeInPlace(y);
+    EXPECT_LT((a.transpose() * y - b).norm(), 1e-12 * a.norm() * y.norm()) << "n = " << n;
+    const Eigen::VectorXd y_eigen = Eigen::FullPivLU<Eigen::MatrixXd>(a.transpose()).solve(b);
+    EXPECT_LT((y - y_eigen).norm(), 1e-10 * y.norm()) << "n = " << n;
 
     const Eigen::MatrixXd B = randomMatrix(rng, n, 32);
     Eigen::MatrixXd X = B;

@@ -259,6 +259,29 @@ void CompletePivotingLu::solveColumn(double* x) const {
     if (column_swap_[k] != k) std::swap(x[k], x[column_swap_[k]]);
 }
 
+void CompletePivotingLu::solveTransposeInPlace(Eigen::Ref<Eigen::VectorXd> v) const {
+  // A = Pᵀ L U Qᵀ, so x ← Pᵀ L⁻ᵀ U⁻ᵀ Qᵀ x: the steps of solveColumn transposed, in reverse order.
+  const int n = n_;
+  const double* m = lu_.data();
+  double* x = v.data();
+  for (int k = 0; k < n; ++k)
+    if (column_swap_[k] != k) std::swap(x[k], x[column_swap_[k]]);
+  for (int k = 0; k < n; ++k) {  // Uᵀ is lower triangular; column k of U is row k of Uᵀ
+    const double* u = m + static_cast<std::ptrdiff_t>(k) * n;
+    double s = x[k];
+    for (int i = 0; i < k; ++i) s -= u[i] * x[i];
+    x[k] = s / u[k];
+  }
+  for (int k = n - 1; k >= 0; --k) {  // Lᵀ is unit upper triangular
+    const double* l = m + static_cast<std::ptrdiff_t>(k) * n;
+    double s = x[k];
+    for (int i = k + 1; i < n; ++i) s -= l[i] * x[i];
+    x[k] = s;
+  }
+  for (int k = n - 1; k >= 0; --k)
+    if (row_swap_[k] != k) std::swap(x[k], x[row_swap_[k]]);
+}
+
 void CompletePivotingLu::solveInPlace(Eigen::Ref<Eigen::MatrixXd> x) {
   if (x.cols() == 1) return solveColumn(x.data());
   // Several columns: blocks of them are gathered, P applied on the way, into rows of contiguous

@@ -26,6 +26,9 @@ class CompletePivotingLu {
   // Each column gets the same result, bit for bit, as when solved alone.
   void solveInPlace(Eigen::Ref<Eigen::MatrixXd> x);
 
+  // x ← A⁻ᵀ x for one vector (the adjoint solve). Only meaningful at full rank.
+  void solveTransposeInPlace(Eigen::Ref<Eigen::VectorXd> x) const;
+
   const Eigen::MatrixXd& matrixLU() const { return lu_; }  // L below the diagonal (unit), U on and above
   // Step k swapped rows k and row_swap[k], and columns k and column_swap[k].
   const std::vector<int>& rowSwaps() const { return row_swap_; }

@@ -20,7 +20,9 @@
 // projection can diverge without a line search; the stiff contact makes the full step overshoot on
 // landing, and the paper's zeroth-order ∂Ḡ/∂θ lacks that stiffness). Converged when ‖G‖∞ ≤
 // projection_tolerance · m‖g‖ plus a round-off allowance that grows as 1/h² (the inertial term is
-// (θ − q_n)/h² and θ carries round-off).
+// (θ − q_n)/h² and θ carries round-off). A trial θ' of the PGM loop is projected only until its
+// residual r can no longer change the trust-region test: |λᵀr| ≤ 0.1 × the predicted decrease of K
+// (λ the adjoint (∂G/∂θ)⁻ᵀ∇K); the final θ is projected to the full tolerance.
 //
 // ne-mdp (DESIGN.md 6): explicit PD and dynamics at (q_n, q̇_n), vertices at q_n, one QP for the
 // weights that minimise the kinetic energy of the post-contact velocity, symplectic Euler update.
@@ -62,9 +64,10 @@ class StepSolver {
                   const PdTarget& target, const Eigen::VectorXd& w_start, double& beta);
   StepAttempt neMdp(const System& system, const SimulationState& state, double h, const PdTarget& target,
                     const Eigen::VectorXd& w_start);
-  // Newton on G(·, w) = 0 from θ (in place). On success the residual holds the evaluation at θ.
+  // Newton on G(·, w) = 0 from θ (in place), to the projection tolerance or to `loose` if that is
+  // larger. On success the residual holds the evaluation at θ.
   bool project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
-               const Eigen::VectorXd& w, ContactDerivative derivative, StepAttempt& stats);
+               const Eigen::VectorXd& w, ContactDerivative derivative, StepAttempt& stats, double loose = 0.0);
   void scaleFromQ();          // penalty_scale_ from the diagonal of Q_
   bool solveQp(double beta);  // Δw into dw_ with the penalty β·diag(penalty_scale_); false if the QP failed
   // Whether dw_ is a step to try: its contact force change above tol_w·m‖g‖, and predicted to lower
@@ -81,6 +84,9 @@ class StepSolver {
   // factor; Anderson acceleration of those chord steps remembers this many of them.
   static constexpr double kRefreshContraction = 0.5;
   static constexpr int kAndersonMemory = 3;
+  // A trial PGM step is projected until its residual moves K by at most this fraction of the decrease
+  // the QP predicts (see pgm()); the accepted solution is then projected to the full tolerance.
+  static constexpr double kTrialLooseness = 0.1;
   AndersonAcceleration anderson_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
@@ -89,6 +95,8 @@ class StepSolver {
   Eigen::VectorXd penalty_scale_;  // the unit of β per weight: max(Q_ii, 1e-12·max Q_ii)
   Eigen::MatrixXd Q_penalized_;
   Eigen::MatrixXd B_theta_;  // B at the current iterate (the residual may hold a rejected trial)
+  Eigen::VectorXd adjoint_;  // λ = (∂G/∂θ)⁻ᵀ ∇K at the current iterate: K moves by λᵀr for a residual r
+  double adjoint_norm_ = 0.0;  // ‖λ‖₁
   double predicted_decrease_ = 0.0;    // of K, by the QP model, for the last step
   double projection_tolerance_ = 0.0;  // ‖G‖∞ tolerance of the last projection
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
