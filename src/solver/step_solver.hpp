@@ -6,7 +6,7 @@
 //            Δw = argmin gᵀΔw + ½ Δwᵀ(Q + β diag Q)Δw  over the capped simplices (CappedSimplexQp;
 //            the paper and DESIGN.md write βI: β is made relative to each weight's own curvature)
 //            ‖B Δw‖∞ < tol_w·m‖g‖ (the step as a generalized force), or a predicted decrease of K
-//            below what K resolves → done
+//            below what K resolves or (unless the contact term is dropped) below ε·½m(‖g‖h)² → done
 //            θ' = Proj(θ, w + Δw) from θ + DΔw;  fails or K(θ') ≥ K(θ) → β ← η_reject·β (fail past
 //            β_max), same D;  else accept, β ← max(β/η, β_min); done if K(θ) − K(θ') < ε·½m(‖g‖h)²
 //            or (unless the contact term is dropped) ‖θ' − θ‖∞ < ε
