@@ -296,9 +296,9 @@ void StepResidual::addContactDerivatives(const System& system, const Eigen::Vect
     if (body < 0) continue;  // welded to the world: J = 0
     addJacobianTransposeWrenchDerivative(model, data, body, frames[c].position, -f, dG_dtheta);
     if (derivative == ContactDerivative::Dropped) continue;
-    // ∂(V_c w_c)/∂θ = [dV/dξ_0 w_c, …, dV/dξ_5 w_c] J_c, nonzero on the chain's columns only. Each
-    // column of J_cᵀ(∂(V_c w_c)/∂θ) is one 6-term combination of J_cᵀ's gathered chain rows (contiguous,
-    // vectorized) instead of a 6-D dot product per entry.
+    // ∂(V_c w_c)/∂θ = [dV/dξ_0 w_c, …, dV/dξ_5 w_c] J_c, nonzero on the chain's columns only.
+    // Each column of J_cᵀ(∂(V_c w_c)/∂θ) is one 6-term combination of J_cᵀ's gathered chain rows
+    // (contiguous, vectorized) instead of a 6-D dot product per entry.
     Mat6 df_dxi;
     for (int i = 0; i < 6; ++i) df_dxi.col(i) = combine(wrenches[c].dV[i], w_c.data());
     const int L = static_cast<int>(chain.size());

@@ -247,10 +247,11 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       return stats;
     }
     // Converged when the step is below tol_w, or when the decrease of K the QP predicts is below ε
-    // (least_decrease) or below what K can resolve: θ is only known to the projection's tolerance, so the trust-region test
-    // would compare noise (at small h this, not ε, is what stops the iteration). A large penalty
-    // makes any step small, so convergence is confirmed without it (re-solved at β_min); if the
-    // penalty was hiding progress, it is lowered and the QP solved again (no projection needed).
+    // (least_decrease) or below what K can resolve: θ is only known to the projection's tolerance,
+    // so the trust-region test would compare noise (at small h this, not ε, is what stops the
+    // iteration). A large penalty makes any step small, so convergence is confirmed without it
+    // (re-solved at β_min); if the penalty was hiding progress, it is lowered and the QP solved
+    // again (no projection needed).
     if (!stepIsWorthTaking(options, K, least_decrease)) {
       if (beta <= options.beta_min) break;
       if (!solveQp(options.beta_min)) {
