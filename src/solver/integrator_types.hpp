@@ -130,7 +130,7 @@ struct StepStats {
   StepStatus status = StepStatus::Converged;
   bool converged = false;
   int outer_iterations = 0;  // summed over sub-steps and failed attempts
-  int g_evaluations = 0;     // evaluations of G (each with its θ-Jacobian)
+  int g_evaluations = 0;     // evaluations of G (adding ∂G/∂θ to one counts as another)
   int projections = 0;       // calls of the manifold projection
   int newton_iterations = 0;
   int rejected = 0;          // outer iterations rejected by the trust region

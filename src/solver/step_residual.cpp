@@ -92,34 +92,13 @@ void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, 
     addDerivatives(system, theta, w, derivative);
     return;
   }
-  const Model& model = *system.model;
-  const double inv_h2 = 1.0 / (h_ * h_);
-  forwardKinematics(model, data, theta);
-  transformEnergy(model, data, inertial_targets_, h_, &G, &dG_dtheta);
-  gravityPotential(model, data, &work_, &hess_work_);
-  G += work_;
-  dG_dtheta += hess_work_;
-  pdPotentialGradient(system.gains, target_, theta, q_n_, h_, work_);
-  G += work_;
-  if (system.external_force.size() != 0) G -= system.external_force;
-  dG_dtheta.diagonal() += pd_hessian_;
-  K = transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K);
-  for (int j = 0; j < n_; ++j) {
-    const double a = model.bodies[j].armature;
-    if (a == 0.0) continue;
-    const double inertial = theta[j] - armature_target_[j], kinetic = theta[j] - q_n_[j];
-    G[j] += a * inertial * inv_h2;
-    dG_dtheta(j, j) += a * inv_h2;
-    K += 0.5 * a * kinetic * kinetic * inv_h2;
-    grad_K[j] += a * kinetic * inv_h2;
-    hess_K(j, j) += a * inv_h2;
-  }
+  positionBasedTerms(system, theta, true);
   if (m_ > 0) {
     frameGeometry(system);
     addContactDerivatives(system, w, derivative);
     addContactForces(system, w);
   }
-  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, true);
+  if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(*system.model, true);
 }
 
 void StepResidual::addDerivatives(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
@@ -142,7 +121,6 @@ void StepResidual::addDerivatives(const System& system, const Eigen::VectorXd& t
 
 void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w) {
   const Model& model = *system.model;
-  const double inv_h2 = 1.0 / (h_ * h_);
   if (form_ == Form::NewtonEuler) {
     neInertialResidual(model, data, theta, q_n_, qd_n_, h_, G, nullptr);
     pdTorque(system.gains, target_, theta, q_n_, h_, work_);
@@ -151,21 +129,7 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
     // (The contact-point K is computed below, from the same RNEA velocities.)
     if (kinetic_energy_ == KineticEnergyMeasure::FullBody) K = bodyKineticEnergy(model);
   } else {
-    forwardKinematics(model, data, theta);
-    transformEnergy(model, data, inertial_targets_, h_, &G, nullptr);
-    gravityPotential(model, data, &work_, nullptr);
-    G += work_;
-    pdPotentialGradient(system.gains, target_, theta, q_n_, h_, work_);
-    G += work_;
-    if (system.external_force.size() != 0) G -= system.external_force;
-    K = transformEnergy(model, data, transforms_n_, h_, nullptr, nullptr);
-    for (int j = 0; j < n_; ++j) {
-      const double a = model.bodies[j].armature;
-      if (a == 0.0) continue;
-      const double inertial = theta[j] - armature_target_[j], kinetic = theta[j] - q_n_[j];
-      G[j] += a * inertial * inv_h2;
-      K += 0.5 * a * kinetic * kinetic * inv_h2;
-    }
+    positionBasedTerms(system, theta, false);
   }
   if (m_ > 0) {
     // No J_c: the contact forces enter G through the joints' motion axes, and the contact points'
@@ -175,6 +139,33 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
     addContactForces(system, w);
   }
   if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, false);
+}
+
+void StepResidual::positionBasedTerms(const System& system, const Eigen::VectorXd& theta, bool derivatives) {
+  const Model& model = *system.model;
+  const double inv_h2 = 1.0 / (h_ * h_);
+  forwardKinematics(model, data, theta);
+  transformEnergy(model, data, inertial_targets_, h_, &G, derivatives ? &dG_dtheta : nullptr);
+  gravityPotential(model, data, &work_, derivatives ? &hess_work_ : nullptr);
+  G += work_;
+  if (derivatives) dG_dtheta += hess_work_;
+  pdPotentialGradient(system.gains, target_, theta, q_n_, h_, work_);
+  G += work_;
+  if (system.external_force.size() != 0) G -= system.external_force;
+  if (derivatives) dG_dtheta.diagonal() += pd_hessian_;
+  K = derivatives ? transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K)
+                  : transformEnergy(model, data, transforms_n_, h_, nullptr, nullptr);
+  for (int j = 0; j < n_; ++j) {
+    const double a = model.bodies[j].armature;
+    if (a == 0.0) continue;
+    const double inertial = theta[j] - armature_target_[j], kinetic = theta[j] - q_n_[j];
+    G[j] += a * inertial * inv_h2;
+    K += 0.5 * a * kinetic * kinetic * inv_h2;
+    if (!derivatives) continue;
+    dG_dtheta(j, j) += a * inv_h2;
+    grad_K[j] += a * kinetic * inv_h2;
+    hess_K(j, j) += a * inv_h2;
+  }
 }
 
 double StepResidual::bodyKineticEnergy(const Model& model) const {

@@ -80,6 +80,8 @@ class StepResidual {
   void contactGeometry(const System& system, ContactDerivative derivative);  // J_c, V_c, dV/dξ, B at the frames
   void frameGeometry(const System& system);  // the contact frames
   void addContactForces(const System& system, const Eigen::VectorXd& w);  // G −= Σ J_cᵀ V_c w_c
+  // PBD: kinematics at θ, G and K without the contacts (and ∂G/∂θ, ∇K, ∇²K with derivatives).
+  void positionBasedTerms(const System& system, const Eigen::VectorXd& theta, bool derivatives);
 
   // NE: K = ½ Σ_k v_kᵀ I_k v_k + ½ Σ_j a_j θ̇_j² from RNEA's world velocities (= ½ θ̇ᵀ H θ̇).
   double bodyKineticEnergy(const Model& model) const;
