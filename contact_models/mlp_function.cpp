@@ -18,8 +18,9 @@ namespace nmdp {
 
 namespace {
 
-constexpr double kFormatVersion = 2.0;          // the newest version this program reads and writes
-constexpr double kFormatVersionNoEnvelope = 1.0;  // written when output_envelope is "none"
+constexpr double kFormatVersion = 3.0;          // the newest version this program reads and writes
+constexpr double kFormatVersionEnvelope = 2.0;    // written with output_envelope "depth" (no anchors)
+constexpr double kFormatVersionNoEnvelope = 1.0;  // written when output_envelope is "none" (no anchors)
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
 constexpr double kSoftplusThreshold = 36.0;  // log1p(exp(-36)) < half an ulp of 36: the switch is invisible
 
@@ -156,7 +157,48 @@ std::string mlpParameterProblem(const MlpParameters& p) {
     if (const std::string bad = firstNonFinite(*v); !bad.empty())
       return "dataset '" + std::string(name) + "' has a non-finite value (NaN or inf) at " + bad;
   }
+  if (p.anchors.rows() > 0) {
+    if (const std::string bad = firstNonFinite(p.anchors); !bad.empty())
+      return "dataset '/mlp/anchors' has a non-finite value (NaN or inf) at " + bad;
+    if (!(p.anchor_radius > 0.0) || !std::isfinite(p.anchor_radius))
+      return "attribute 'anchor_radius' of '/mlp' must be a positive finite number";
+    if (p.output_envelope != MlpOutputEnvelope::None)
+      return "zero anchors ('/mlp/anchors') and output_envelope \"" + std::string(mlpOutputEnvelopeName(p.output_envelope)) +
+             "\" cannot be combined";
+    const Eigen::Array2d inv_std = p.input_std.cwiseInverse().array();
+    for (Eigen::Index a = 0; a < p.anchors.rows(); ++a)
+      for (Eigen::Index c = a + 1; c < p.anchors.rows(); ++c) {
+        const double d = ((p.anchors.row(a) - p.anchors.row(c)).transpose().array() * inv_std).matrix().norm();
+        if (d < p.anchor_radius)
+          return "anchors " + std::to_string(a) + " and " + std::to_string(c) + " of '/mlp/anchors' are " +
+                 std::to_string(d) + " apart (normalized), less than attribute 'anchor_radius' " +
+                 std::to_string(p.anchor_radius) + ": each anchor's bump must vanish at the others";
+      }
+  }
   return "";
+}
+
+void mlpAnchorBumps(const MlpParameters& p, const Eigen::MatrixX2d& features, Eigen::MatrixXd& b,
+                    Eigen::MatrixXd* db_dphi, Eigen::MatrixXd* db_dbeta) {
+  const Eigen::Index B = features.rows(), A = p.anchors.rows();
+  b.setZero(B, A);
+  if (db_dphi) db_dphi->setZero(B, A);
+  if (db_dbeta) db_dbeta->setZero(B, A);
+  if (A == 0) return;
+  const Eigen::Array2d inv_std = p.input_std.cwiseInverse().array();
+  const double R = p.anchor_radius;
+  for (Eigen::Index i = 0; i < B; ++i)
+    for (Eigen::Index a = 0; a < A; ++a) {
+      const Eigen::Array2d d = (features.row(i) - p.anchors.row(a)).transpose().array() * inv_std;  // x̂ − x̂_a
+      const double r = std::sqrt(d.square().sum()) / R;
+      if (!(r < 1.0)) continue;
+      const double u = 1.0 - r, u2 = u * u, u5 = u2 * u2 * u;
+      b(i, a) = u5 * u * (35.0 * r * r + 18.0 * r + 3.0) / 3.0;
+      // dψ/dr / r = −(56/3)(5r + 1)(1 − r)⁵, and dr/dx̂ = (x̂ − x̂_a) / (r R²): no 0/0 at the centre.
+      const double g = -(56.0 / 3.0) * (5.0 * r + 1.0) * u5 / (R * R);
+      if (db_dphi) (*db_dphi)(i, a) = g * d[0] * inv_std[0];
+      if (db_dbeta) (*db_dbeta)(i, a) = g * d[1] * inv_std[1];
+    }
 }
 
 MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, MlpActivation activation,
@@ -285,6 +327,7 @@ MlpFunction::MlpFunction(MlpParameters parameters, MlpJacobian jacobian)
     t->bias.push_back(std::move(b));
   }
   torch_ = std::move(t);
+  if (params_.anchors.rows() > 0) evaluateNetwork(params_.anchors, anchor_values_, nullptr, nullptr);
 }
 
 MlpFunction::~MlpFunction() = default;
@@ -296,6 +339,7 @@ std::string MlpFunction::describe() const {
   for (size_t i = 0; i < sizes.size(); ++i) s << (i ? "-" : "") << sizes[i];
   s << " " << mlpActivationName(params_.activation);
   if (params_.output_envelope == MlpOutputEnvelope::Depth) s << ", W = (-phi) N depth envelope";
+  if (params_.anchors.rows() > 0) s << ", " << params_.anchors.rows() << " zero anchors";
   s << ", " << vertexCount() << " vertices, "
     << (jacobian_ == MlpJacobian::Tangents ? "hand-coded tangents" : std::string(mlpJacobianName(jacobian_)) + " autograd");
   return s.str();
@@ -304,6 +348,13 @@ std::string MlpFunction::describe() const {
 void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                            Eigen::MatrixXd* dW_dbeta) const {
   evaluateNetwork(features, W, dW_dphi, dW_dbeta);
+  if (params_.anchors.rows() > 0 && features.rows() > 0) {
+    Eigen::MatrixXd b, db_dphi, db_dbeta;
+    mlpAnchorBumps(params_, features, b, dW_dphi ? &db_dphi : nullptr, dW_dbeta ? &db_dbeta : nullptr);
+    W.noalias() -= b * anchor_values_;
+    if (dW_dphi) dW_dphi->noalias() -= db_dphi * anchor_values_;
+    if (dW_dbeta) dW_dbeta->noalias() -= db_dbeta * anchor_values_;
+  }
   if (params_.output_envelope == MlpOutputEnvelope::Depth && features.rows() > 0) {
     // W = (−φ) ⊙ N: dW/dφ = −N + (−φ) ⊙ dN/dφ, dW/dβ = (−φ) ⊙ dN/dβ (W still holds N here).
     const Eigen::ArrayXd depth = 0.0 - features.col(0).array();  // 0.0 − φ: +0 at the surface
@@ -505,6 +556,15 @@ MlpModelFile loadMlpModel(const std::string& path) {
       fail("dataset '/mlp/feature_names' must be [\"phi\", \"beta\"]: the MLP contact model takes the signed distance "
            "and the sagittal leg angle");
   }
+  if (file.exists("/mlp/anchors")) {
+    const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors");
+    if (a.cols() != 2 || a.rows() < 1)
+      fail("dataset '/mlp/anchors' is " + shape(a) + ", expected (anchors) x 2: the points (phi, beta)");
+    p.anchors = a;
+    if (!file.hasAttribute("/mlp", "anchor_radius"))
+      fail("dataset '/mlp/anchors' needs the attribute 'anchor_radius' of '/mlp'");
+    p.anchor_radius = file.readDoubleAttribute("/mlp", "anchor_radius");
+  }
   if (const std::string problem = mlpParameterProblem(p); !problem.empty()) fail(problem);
   return out;
 }
@@ -532,7 +592,9 @@ void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry&
   file.writeStringAttribute("/", "nmdp_model", "mlp");
   file.createGroup("/mlp");
   const bool envelope = p.output_envelope != MlpOutputEnvelope::None;
-  file.writeDoubleAttribute("/mlp", "format_version", envelope ? kFormatVersion : kFormatVersionNoEnvelope);
+  const bool anchored = p.anchors.rows() > 0;
+  file.writeDoubleAttribute("/mlp", "format_version",
+                            anchored ? kFormatVersion : envelope ? kFormatVersionEnvelope : kFormatVersionNoEnvelope);
   file.writeStringAttribute("/mlp", "activation", mlpActivationName(p.activation));
   file.writeDoubleAttribute("/mlp", "layers", static_cast<double>(p.layers.size()));
   file.writeDoubleAttribute("/mlp", "vertices", p.vertexCount());
@@ -551,6 +613,10 @@ void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry&
     file.createGroup(layerName(i));
     file.writeMatrix(layerName(i) + "/weight", p.layers[i].weight);
     file.writeVector(layerName(i) + "/bias", p.layers[i].bias);
+  }
+  if (anchored) {
+    file.writeMatrix("/mlp/anchors", p.anchors);
+    file.writeDoubleAttribute("/mlp", "anchor_radius", p.anchor_radius);
   }
 }
 

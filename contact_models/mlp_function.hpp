@@ -29,6 +29,18 @@
 //     dW/dφ = −N + (−φ) ⊙ dN/dφ,   dW/dβ = (−φ) ⊙ dN/dβ,
 // applied in Eigen after the network pass (N and dN from any of the schemes below).
 //
+// Zero anchors (optional; `anchors` A × 2 points ξ_a, `anchor_radius` R > 0): the model is
+//     W(ξ) = N(ξ) − Σ_a b_a(ξ) N(ξ_a),   b_a(ξ) = ψ(‖x̂(ξ) − x̂(ξ_a)‖ / R),
+// x̂ the normalized input (2), ψ(r) = (1 − r)⁶ (35 r² + 18 r + 3) / 3 for r < 1 and 0 beyond (Wendland's
+// C⁴ function, ψ(0) = 1, ψ'(0) = 0). R must not exceed the smallest distance between two anchors
+// (normalized), so b_a(ξ_c) = δ_ac and W is exactly zero (to round-off) at every anchor, whatever the
+// network: the trainer anchors the training points whose wrench is exactly zero (the surface points of
+// the sand data), where a plain network leaves a small non-zero wrench that is large relative to the
+// vanishing wrench nearby. W stays C⁴ (bumps of compact support, constant coefficients N(ξ_a),
+// computed once when the function is built), and since ψ'(0) = 0 the gradient at an anchor is the
+// network's. Derivatives: dW/df = dN/df − Σ_a (db_a/df) N(ξ_a), applied in Eigen after the network pass.
+// Anchors and the depth envelope are exclusive.
+//
 // Evaluation: all rows of a batch go through the network in one pass, one ATen call per affine
 // layer with the transposed weight A_iᵀ stored contiguous (which the reference BLAS multiplies ~1.5×
 // faster than the out×in layout of torch::nn::Linear): layer 0 is a torch::mm on the input augmented
@@ -68,8 +80,8 @@
 // ----- File format (HDF5, readable by h5py; never TorchScript: loading executes nothing) ---------
 //   /                        attribute nmdp_model = "mlp"
 //   /mlp                     group; attributes:
-//       format_version       1 (float64), or 2 when output_envelope is "depth" (files without the
-//                            envelope stay version 1, readable by older programs); 1 and 2 are read
+//       format_version       1 (float64), 2 when output_envelope is "depth", 3 with zero anchors (files
+//                            without either stay version 1, readable by older programs); 1 to 3 are read
 //       activation           string: "tanh", "softplus" or "silu"
 //       layers               float64, integer L + 1 ≥ 1: the number of affine layers
 //       vertices             float64, integer K ≥ 1: the output has 3K entries
@@ -87,6 +99,8 @@
 //   /mlp/output_offset       (3K) float64
 //   /mlp/layer_{i}/weight    out_i × in_i float64 (i = 0..L): in_0 = 2, in_i = out_{i−1}, out_L = 3K
 //   /mlp/layer_{i}/bias      (out_i) float64
+//   /mlp/anchors             (A × 2) float64, optional: the zero anchors (φ, β) (format_version 3),
+//                            with the attribute anchor_radius of /mlp (R > 0, normalized input units)
 // Every value must be finite. A missing dataset or attribute, a wrong shape, a NaN or inf, an
 // unknown activation (ReLU included), an unknown output_envelope, a wrench kind other than "planar"
 // or a newer format_version is an InputError naming the file and the dataset or attribute.
@@ -150,6 +164,8 @@ struct MlpParameters {
   Eigen::VectorXd output_offset;                         // 3K
   std::vector<MlpLayer> layers;                          // L hidden layers, then the output layer
   MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // W = N, or W = (−φ) ⊙ N
+  Eigen::MatrixX2d anchors = Eigen::MatrixX2d(0, 2);  // zero anchors (φ, β); none by default
+  double anchor_radius = 0.0;                           // R of the anchors' bumps (normalized input units)
 
   int vertexCount() const;        // K (0 when there are no layers)
   std::vector<int> sizes() const;  // 2, H_1, ..., H_L, 3K
@@ -158,6 +174,11 @@ struct MlpParameters {
 // "" when `p` is consistent, else what is wrong, naming the dataset of the file format
 // (e.g. "dataset '/mlp/layer_1/weight' is 64 x 32, expected 64 x 64 (...)").
 std::string mlpParameterProblem(const MlpParameters& p);
+
+// The anchors' bumps b_a at the features (B × A; see "Zero anchors" above), and their derivatives
+// in φ and β when asked for. Zero columns when p has no anchors.
+void mlpAnchorBumps(const MlpParameters& p, const Eigen::MatrixX2d& features, Eigen::MatrixXd& b,
+                    Eigen::MatrixXd* db_dphi = nullptr, Eigen::MatrixXd* db_dbeta = nullptr);
 
 // A network with the torch default initialization (weights and biases uniform in ±1/√in), identity
 // normalization (mean 0, std 1, scale 1, offset 0). Deterministic for a seed on every platform
@@ -201,6 +222,7 @@ class MlpFunction : public FeatureWrenchFunction {
 
   struct Torch;  // the layers as libtorch tensors (mlp_function.cpp)
   MlpParameters params_;
+  Eigen::MatrixXd anchor_values_;  // A × 3K: N at the anchors
   MlpJacobian jacobian_;
   std::unique_ptr<const Torch> torch_;
 };

@@ -5,8 +5,10 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <iostream>
 #include <random>
 #include <thread>
@@ -358,6 +360,106 @@ TEST(MlpEnvelope, IsTheDepthTimesTheNetworkAndZeroAtTheSurface) {
   EXPECT_EQ(e, MlpOutputEnvelope::Depth);
 }
 
+// ----- zero anchors W = N − Σ_a b_a N(ξ_a) ------------------------------------------------------------
+
+// Four anchors, 0.333 apart at least in normalized units (input_std 0.03, 0.4), bumps of radius 0.3.
+MlpParameters anchorParameters(MlpActivation activation = MlpActivation::Tanh) {
+  MlpParameters p = testParameters(activation);
+  p.anchors.resize(4, 2);
+  p.anchors << 0.0, 0.0, 0.0, 0.3, 0.01, 0.0, 0.01, 0.3;
+  p.anchor_radius = 0.3;
+  return p;
+}
+
+// Rows inside the bumps (near the anchors), at two anchors and one far from all of them.
+Eigen::MatrixX2d anchorFeatures() {
+  Eigen::MatrixX2d f(6, 2);
+  f << -0.004, 0.05, 0.003, 0.28, 0.0, 0.3, 0.01, 0.0, -0.002, 0.0, -0.05, -0.6;
+  return f;
+}
+
+class MlpAnchorDerivatives : public ::testing::TestWithParam<FunctionCase> {};
+
+TEST_P(MlpAnchorDerivatives, MatchCentralDifferences) {
+  const MlpFunction mlp(anchorParameters(GetParam().activation), GetParam().jacobian);
+  const Eigen::MatrixX2d f = anchorFeatures();
+  Eigen::MatrixXd W, dphi, dbeta;
+  mlp.evaluate(f, W, &dphi, &dbeta);
+  for (int d = 0; d < 2; ++d) {
+    const Eigen::MatrixXd fd = centralDifference(mlp, f, d);
+    const Eigen::MatrixXd& ad = d == 0 ? dphi : dbeta;
+    for (Eigen::Index r = 0; r < f.rows(); ++r)
+      EXPECT_LT(relativeError(ad.row(r), fd.row(r)), 1e-6) << (d == 0 ? "dW/dphi" : "dW/dbeta") << " row " << r;
+  }
+  expectOneDirectionAsBoth(mlp, f, W, dphi, dbeta);
+}
+
+INSTANTIATE_TEST_SUITE_P(ActivationsAndSchemes, MlpAnchorDerivatives,
+                         ::testing::Values(FunctionCase{MlpActivation::Tanh, MlpJacobian::ForwardMode},
+                                           FunctionCase{MlpActivation::Tanh, MlpJacobian::DoubleBackward},
+                                           FunctionCase{MlpActivation::Tanh, MlpJacobian::Tangents},
+                                           FunctionCase{MlpActivation::Silu, MlpJacobian::Tangents}),
+                         functionCaseName);
+
+TEST(MlpAnchors, ZeroAtTheAnchorsTheNetworkAwayAndItsGradientAtThem) {
+  const MlpParameters p = anchorParameters();
+  for (MlpJacobian jacobian : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
+    const MlpFunction plain(testParameters(), jacobian), anchored(p, jacobian);
+    Eigen::MatrixXd N, dN_phi, dN_beta, W, dW_phi, dW_beta, W0;
+    plain.evaluate(p.anchors, N, &dN_phi, &dN_beta);
+    anchored.evaluate(p.anchors, W, &dW_phi, &dW_beta);
+    anchored.evaluate(p.anchors, W0, nullptr, nullptr);
+    EXPECT_GT(N.cwiseAbs().maxCoeff(), 1.0);  // the network is not zero there ...
+    EXPECT_LT(W.cwiseAbs().maxCoeff(), 1e-10 * N.cwiseAbs().maxCoeff()) << mlpJacobianName(jacobian);  // ... W is
+    EXPECT_LT(W0.cwiseAbs().maxCoeff(), 1e-10 * N.cwiseAbs().maxCoeff()) << mlpJacobianName(jacobian);
+    // ψ'(0) = 0 and the other bumps vanish there: the gradient at an anchor is the network's.
+    EXPECT_TRUE(identical(dW_phi, dN_phi)) << mlpJacobianName(jacobian);
+    EXPECT_TRUE(identical(dW_beta, dN_beta)) << mlpJacobianName(jacobian);
+    // Outside every bump the model is the network, bit for bit.
+    const Eigen::MatrixX2d far = (Eigen::MatrixX2d(2, 2) << -0.05, -0.6, 0.02, 0.9).finished();
+    plain.evaluate(far, N, &dN_phi, &dN_beta);
+    anchored.evaluate(far, W, &dW_phi, &dW_beta);
+    EXPECT_TRUE(identical(W, N));
+    EXPECT_TRUE(identical(dW_phi, dN_phi));
+    EXPECT_TRUE(identical(dW_beta, dN_beta));
+  }
+  // Inside a bump, W = N − b_a N(ξ_a) with the documented bump.
+  const MlpFunction plain(testParameters()), anchored(p);
+  Eigen::MatrixX2d f(1, 2);
+  f << -0.004, 0.05;
+  Eigen::MatrixXd N, Na, W, b;
+  plain.evaluate(f, N, nullptr, nullptr);
+  plain.evaluate(p.anchors.topRows(1), Na, nullptr, nullptr);
+  anchored.evaluate(f, W, nullptr, nullptr);
+  const double r = std::hypot(0.004 / 0.03, 0.05 / 0.4) / 0.3;
+  const double psi = std::pow(1 - r, 6) * (35 * r * r + 18 * r + 3) / 3;
+  mlpAnchorBumps(p, f, b);
+  EXPECT_NEAR(b(0, 0), psi, 1e-15);
+  EXPECT_EQ(b.row(0).tail(3).cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_LT(relativeError(W, N - psi * Na), 1e-12);
+  EXPECT_GT((W - N).cwiseAbs().maxCoeff(), 1e-3);  // the correction is not negligible here
+  EXPECT_EQ(anchored.describe(), "MLP 2-64-64-78 tanh, 4 zero anchors, 26 vertices, forward-mode autograd");
+}
+
+TEST(MlpAnchors, BadAnchorsAreRejected) {
+  MlpParameters p = anchorParameters();
+  p.anchor_radius = 0.34;  // more than the 0.333 between (0, 0) and (0.01, 0)
+  try {
+    MlpFunction{p};
+    ADD_FAILURE() << "no exception";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("anchor_radius"), std::string::npos) << e.what();
+  }
+  p.anchor_radius = 0.0;
+  EXPECT_THROW(MlpFunction{p}, std::invalid_argument);
+  p = anchorParameters();
+  p.anchors(2, 1) = std::nan("");
+  EXPECT_THROW(MlpFunction{p}, std::invalid_argument);
+  p = anchorParameters();
+  p.output_envelope = MlpOutputEnvelope::Depth;
+  EXPECT_THROW(MlpFunction{p}, std::invalid_argument);
+}
+
 // ----- the HDF5 file -------------------------------------------------------------------------------
 
 TEST(MlpFile, SaveLoadRoundTripIsBitIdentical) {
@@ -432,6 +534,57 @@ TEST(MlpFile, SaveLoadRoundTripWithTheDepthEnvelope) {
   EXPECT_EQ(raw.readDoubleAttribute("/mlp", "format_version"), 1.0);
   EXPECT_FALSE(raw.hasAttribute("/mlp", "output_envelope"));
   EXPECT_EQ(loadMlpModel(plain.path()).parameters.output_envelope, MlpOutputEnvelope::None);
+}
+
+TEST(MlpFile, SaveLoadRoundTripWithZeroAnchors) {
+  TempFile file("anchors.h5");
+  const MlpFunction mlp(anchorParameters(), MlpJacobian::Tangents);
+  saveMlpModel(file.path(), mlp, testGeometry());
+  {
+    const h5::File raw = h5::File::openRead(file.path());
+    EXPECT_EQ(raw.readDoubleAttribute("/mlp", "format_version"), 3.0);
+    EXPECT_EQ(raw.readDoubleAttribute("/mlp", "anchor_radius"), 0.3);
+    EXPECT_TRUE(identical(raw.readMatrix("/mlp/anchors"), anchorParameters().anchors));
+  }
+  const MlpModelFile loaded = loadMlpModel(file.path());
+  EXPECT_TRUE(identical(loaded.parameters.anchors, anchorParameters().anchors));
+  const MlpFunction again(loaded.parameters, MlpJacobian::Tangents);
+  Eigen::MatrixXd W1, p1, b1, W2, p2, b2;
+  mlp.evaluate(anchorFeatures(), W1, &p1, &b1);
+  again.evaluate(anchorFeatures(), W2, &p2, &b2);
+  EXPECT_TRUE(identical(W1, W2));
+  EXPECT_TRUE(identical(p1, p2));
+  EXPECT_TRUE(identical(b1, b2));
+
+  // Broken by hand: anchors without their radius, of the wrong shape, a radius too large.
+  const auto expectError = [&](const std::function<void(h5::File&)>& edit, const std::string& part) {
+    TempFile bad("bad_anchors.h5");
+    {
+      h5::File f = h5::File::createAtomic(bad.path());
+      writeMlpModel(f, testParameters(), testGeometry());
+      edit(f);
+      f.commit();
+    }
+    try {
+      loadMlpModel(bad.path());
+      ADD_FAILURE() << "no InputError";
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+    }
+  };
+  expectError([](h5::File& f) { f.writeMatrix("/mlp/anchors", anchorParameters().anchors); }, "anchor_radius");
+  expectError(
+      [](h5::File& f) {
+        f.writeMatrix("/mlp/anchors", Eigen::MatrixXd::Zero(2, 3));
+        f.writeDoubleAttribute("/mlp", "anchor_radius", 0.3);
+      },
+      "'/mlp/anchors' is 2 x 3");
+  expectError(
+      [](h5::File& f) {
+        f.writeMatrix("/mlp/anchors", anchorParameters().anchors);
+        f.writeDoubleAttribute("/mlp", "anchor_radius", 0.5);
+      },
+      "anchor_radius");
 }
 
 // Writes the file format by hand, with what a test wants broken (saveMlpModel refuses bad input).
@@ -514,8 +667,8 @@ TEST(MlpFile, BadOutputEnvelope) {
 
 TEST(MlpFile, NewerFormatVersion) {
   RawFile raw;
-  raw.version = 3;
-  expectLoadError(raw, {"attribute 'format_version'", "versions 1 to 2"});
+  raw.version = 4;
+  expectLoadError(raw, {"attribute 'format_version'", "versions 1 to 3"});
 }
 
 TEST(MlpFile, MissingFile) {
