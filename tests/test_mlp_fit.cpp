@@ -14,6 +14,7 @@
 #include <cmath>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <random>
 
 #include "contact_models/mlp_function.hpp"
@@ -248,6 +249,81 @@ TEST(MlpFit, DepthEnvelopeFitsTheWrenchAndVanishesAtTheSurface) {
   expectAll(formatMlpFitReport(out.record), {"\"output_envelope\":\"depth\""});
 }
 
+// ==== L-BFGS and zero anchors ===================================================================
+
+TEST(MlpFit, LbfgsAfterAdamRecordsItsEpochsAndLowersTheLoss) {
+  FitConfig c = quickConfig();
+  const MlpFit adam = fitMlpToDataset(smallDataset(), c, "synthetic").record.fit;
+  c.mlp.lbfgs_iterations = 95;  // 10 per recorded epoch: 10 epochs, the last of 5 iterations
+  const MlpFit both = fitMlpToDataset(smallDataset(), c, "synthetic").record.fit;
+  EXPECT_EQ(both.epochs, c.mlp.max_epochs + 10);
+  EXPECT_EQ(both.history.rows(), both.epochs);
+  // The Adam epochs are the same; L-BFGS then lowers the validation loss well below Adam's best.
+  EXPECT_TRUE(both.history.topRows(c.mlp.max_epochs) == adam.history);
+  EXPECT_GT(both.best_epoch, c.mlp.max_epochs);
+  EXPECT_LT(both.validation_loss, 0.5 * adam.validation_loss);
+}
+
+TEST(MlpFit, ZeroAnchorsMakeTheModelVanishAtTheZeroWrenchTrainingPoints) {
+  FitConfig c = quickConfig();
+  c.mlp.zero_anchors = true;
+  c.mlp.lbfgs_iterations = 50;
+  const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
+  const MlpFit& fit = out.record.fit;
+  const PlanarPoints& pts = out.record.points;
+  // The anchors are the training points with an exactly zero wrench, in order.
+  std::vector<int> zero;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i] && pts.values.row(i).cwiseAbs().maxCoeff() == 0.0) zero.push_back(i);
+  ASSERT_GT(zero.size(), 2u);
+  const MlpParameters& p = fit.parameters;
+  ASSERT_EQ(p.anchors.rows(), static_cast<Eigen::Index>(zero.size()));
+  double nearest = std::numeric_limits<double>::infinity();
+  for (size_t a = 0; a < zero.size(); ++a) {
+    EXPECT_EQ(p.anchors.row(a), pts.features.row(zero[a]));
+    for (size_t b = a + 1; b < zero.size(); ++b)
+      nearest = std::min(nearest, ((pts.features.row(zero[a]) - pts.features.row(zero[b])).transpose().array() /
+                                   p.input_std.array()).matrix().norm());
+  }
+  EXPECT_DOUBLE_EQ(p.anchor_radius, nearest);
+  // The recorded error there is zero to round-off, while the network itself is not zero there.
+  const double scale = pts.values.cwiseAbs().maxCoeff();
+  MlpParameters bare = p;
+  bare.anchors.resize(0, 2);
+  Eigen::MatrixXd N;
+  MlpFunction(bare).evaluate(p.anchors, N, nullptr, nullptr);
+  EXPECT_GT(N.cwiseAbs().maxCoeff(), 1e-6 * scale);
+  for (int i : zero) EXPECT_LT(fit.error.row(i).cwiseAbs().maxCoeff(), 1e-12 * scale) << "point " << i;
+  // The training loss recorded is the relative loss of the anchored model, with the network itself
+  // at the anchors (where the anchored model is zero), there relative to the largest wrench.
+  double largest = 0.0;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i]) largest = std::max(largest, pts.values.row(i).cwiseAbs().maxCoeff());
+  const double floor = c.mlp.relative_floor * largest;
+  double sum = 0.0;
+  int count = 0;
+  for (int i = 0; i < pts.pointCount(); ++i) {
+    if (fit.validation[i]) continue;
+    const bool anchor = std::find(zero.begin(), zero.end(), i) != zero.end();
+    const Eigen::RowVectorXd e = anchor ? Eigen::RowVectorXd(N.row(std::find(zero.begin(), zero.end(), i) - zero.begin()))
+                                        : Eigen::RowVectorXd(fit.error.row(i));
+    sum += (e / (anchor ? std::max(floor, largest) : std::max(pts.values.row(i).cwiseAbs().maxCoeff(), floor)))
+               .squaredNorm();
+    count += static_cast<int>(e.size());
+  }
+  EXPECT_NEAR(sum / count, fit.train_loss, 1e-9 * fit.train_loss);
+  // The file keeps the anchors; the settings record the option; the same seed gives the same bits.
+  TempDir dir;
+  const std::string a = dir.file("a.h5"), b = dir.file("b.h5");
+  saveMlpFit(a, out.record, out.geometry);
+  const MlpFitOutcome again = fitMlpToDataset(smallDataset(), c, "synthetic");
+  saveMlpFit(b, again.record, again.geometry);
+  expectSameModelFiles(a, b, true);
+  EXPECT_EQ(loadMlpModel(a).parameters.anchors, p.anchors);
+  EXPECT_EQ(out.record.settings["mlp"]["zero_anchors"], true);
+  EXPECT_EQ(out.record.settings["mlp"]["lbfgs_iterations"], 50);
+}
+
 // ==== the model file ============================================================================
 
 TEST(MlpFit, ModelFileLoadsThroughTheRegistryAndMatchesTheTrainer) {
@@ -392,6 +468,27 @@ TEST(MlpFit, TeacherGridIsFittedToTheTrainingPointsOnly) {
   EXPECT_NE(again.record.fit.error.row(held), out.record.fit.error.row(held));
 }
 
+TEST(MlpFit, TeacherDepthRowsPackTowardsTheSurface) {
+  const std::vector<double> even = teacherDepthRows(-0.07, 0.0, 8, 1.0);
+  ASSERT_EQ(even.size(), 8u);
+  for (int a = 0; a < 8; ++a) EXPECT_EQ(even[a], -0.07 + 0.07 * a / 7.0) << a;
+  const std::vector<double> rows = teacherDepthRows(-0.07, 0.0, 5, 3.0);
+  ASSERT_EQ(rows.size(), 5u);
+  EXPECT_EQ(rows.front(), -0.07);
+  EXPECT_EQ(rows.back(), 0.0);
+  for (int a = 1; a < 4; ++a) EXPECT_NEAR(rows[a], -0.07 * std::pow(1.0 - a / 4.0, 3), 1e-15) << a;
+  EXPECT_EQ(teacherDepthRows(-0.07, 0.0, 1, 3.0), std::vector<double>{-0.07});
+  // The option reaches the grid: the same settings with another power give another fit.
+  FitConfig c = quickConfig();
+  c.mlp.max_epochs = 5;
+  c.mlp.teacher_grid = {4, 3};
+  const MlpFit uniform = fitMlpToDataset(smallDataset(), c, "synthetic").record.fit;
+  c.mlp.teacher_depth_power = 3.0;
+  const MlpFit packed = fitMlpToDataset(smallDataset(), c, "synthetic").record.fit;
+  EXPECT_EQ(packed.teacher_samples, 12);
+  EXPECT_NE(packed.history, uniform.history);
+}
+
 // ==== bad settings ==============================================================================
 
 TEST(MlpFitBadSettings, NameTheConfigurationKey) {
@@ -420,6 +517,16 @@ TEST(MlpFitBadSettings, NameTheConfigurationKey) {
             {"fit.json.mlp.output_envelope", "\"none\"", "\"depth\"", "got \"sqrt\""});
   expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"output_envelope", 1}}}}, ctx); }),
             {"fit.json.mlp.output_envelope"});
+  expectAll(inputErrorMessage([&] {
+              parseFitConfig(json{{"mlp", {{"output_envelope", "depth"}, {"zero_anchors", true}}}}, ctx);
+            }),
+            {"fit.json.mlp.zero_anchors", "output_envelope"});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"lbfgs_iterations", -1}}}}, ctx); }),
+            {"fit.json.mlp.lbfgs_iterations"});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"lbfgs_history", 0}}}}, ctx); }),
+            {"fit.json.mlp.lbfgs_history"});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"teacher_depth_power", 0.5}}}}, ctx); }),
+            {"fit.json.mlp.teacher_depth_power", "[1, 100]"});
   EXPECT_EQ(parseFitConfig(json::object(), ctx).mlp.output_envelope, MlpOutputEnvelope::None);
   EXPECT_EQ(parseFitConfig(json{{"mlp", {{"output_envelope", "depth"}}}}, ctx).mlp.output_envelope,
             MlpOutputEnvelope::Depth);
@@ -440,7 +547,8 @@ TEST(MlpFitConfig, SettingsJsonParsesBackToTheSameSettings) {
   const json j = json::parse(fitConfigJson(c, 0.1572, "mlp").dump());
   for (const char* key : {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
                           "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss",
-                          "relative_floor", "threads", "teacher_grid", "output_envelope"})
+                          "relative_floor", "threads", "teacher_grid", "output_envelope", "lbfgs_iterations",
+                          "lbfgs_history", "zero_anchors", "teacher_depth_power"})
     EXPECT_TRUE(j["mlp"].contains(key)) << key;
   EXPECT_EQ(j.contains("rbf"), c.mlp.teacher_grid[0] > 0) << "the rbf section only for a teacher";
   const FitConfig back = parseFitConfig(j, {"settings", ""});

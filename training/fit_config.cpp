@@ -95,7 +95,7 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   requireKnownKeys(m,
                    {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
                     "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss", "relative_floor",
-                    "threads", "teacher_grid", "output_envelope"},
+                    "threads", "teacher_grid", "output_envelope", "lbfgs_iterations", "lbfgs_history", "zero_anchors", "teacher_depth_power"},
                    mctx);
   MlpFitSettings& mlp = out.mlp;
   mlp.hidden_layers = readInteger(m, "hidden_layers", mlp.hidden_layers, mctx, 0, 100);
@@ -151,6 +151,15 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
     fail(mctx, "output_envelope",
          "expected \"none\" (W = N) or \"depth\" (W = (-phi) N, zero at the surface), got \"" + envelope + "\"");
 
+  mlp.lbfgs_iterations = readInteger(m, "lbfgs_iterations", mlp.lbfgs_iterations, mctx, 0, 100000000);
+  mlp.lbfgs_history = readInteger(m, "lbfgs_history", mlp.lbfgs_history, mctx, 1, 10000);
+  mlp.zero_anchors = readBool(m, "zero_anchors", mlp.zero_anchors, mctx);
+  mlp.teacher_depth_power = readNumber(m, "teacher_depth_power", mlp.teacher_depth_power, mctx);
+  if (!(mlp.teacher_depth_power >= 1.0 && mlp.teacher_depth_power <= 100.0))
+    fail(mctx, "teacher_depth_power", "must be in [1, 100] (1: evenly spaced teacher rows; more: denser near the surface)");
+  if (mlp.zero_anchors && mlp.output_envelope != MlpOutputEnvelope::None)
+    fail(mctx, "zero_anchors", "cannot be combined with output_envelope \"depth\" (the envelope is zero at the surface already)");
+
   const ConfigContext gctx = child(ctx, "geometry");
   const nlohmann::json& g = section(config, "geometry", ctx);
   requireKnownKeys(g, {"torque_centre", "cutoff", "cutoff_width"}, gctx);
@@ -191,7 +200,11 @@ nlohmann::ordered_json fitConfigJson(const FitConfig& c, double torque_centre, c
                   {"relative_floor", m.relative_floor},
                   {"threads", m.threads},
                   {"teacher_grid", {m.teacher_grid[0], m.teacher_grid[1]}},
-                  {"output_envelope", mlpOutputEnvelopeName(m.output_envelope)}};
+                  {"output_envelope", mlpOutputEnvelopeName(m.output_envelope)},
+                  {"lbfgs_iterations", m.lbfgs_iterations},
+                  {"lbfgs_history", m.lbfgs_history},
+                  {"zero_anchors", m.zero_anchors},
+                  {"teacher_depth_power", m.teacher_depth_power}};
     if (m.teacher_grid[0] > 0)
       out["rbf"] = {{"kernel", rbfKernelName(c.rbf.spec.kernel)},
                     {"epsilon", c.rbf.spec.epsilon},

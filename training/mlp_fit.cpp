@@ -24,6 +24,7 @@ namespace {
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
 constexpr double kSoftplusThreshold = 36.0;  // as mlp_function.cpp evaluates it
+constexpr int kLbfgsChunk = 10;               // L-BFGS iterations per recorded epoch
 
 torch::Tensor toTensor(const Eigen::MatrixXd& m) {
   RowMatrix r = m;
@@ -110,10 +111,11 @@ PlanarPoints teacherSamples(const PlanarPoints& points, const std::vector<int>& 
   PlanarPoints teacher;
   if (!(lo[0] <= hi[0])) return teacher;  // no point at or below the surface
   const int n0 = s.teacher_grid[0], n1 = s.teacher_grid[1];
+  const std::vector<double> rows = teacherDepthRows(lo[0], hi[0], n0, s.teacher_depth_power);
   teacher.features.resize(n0 * n1, 2);
   for (int a = 0; a < n0; ++a)
     for (int b = 0; b < n1; ++b)
-      teacher.features.row(a * n1 + b) << (n0 > 1 ? lo[0] + (hi[0] - lo[0]) * a / (n0 - 1.0) : lo[0]),
+      teacher.features.row(a * n1 + b) << rows[a],
           (n1 > 1 ? lo[1] + (hi[1] - lo[1]) * b / (n1 - 1.0) : lo[1]);
   rbf.evaluate(teacher.features, teacher.values, nullptr, nullptr);
   teacher.origin.assign(n0 * n1, PointOrigin::Measured);
@@ -121,11 +123,22 @@ PlanarPoints teacherSamples(const PlanarPoints& points, const std::vector<int>& 
 }
 }  // namespace
 
+std::vector<double> teacherDepthRows(double lo, double hi, int n, double power) {
+  std::vector<double> rows(std::max(n, 0));
+  for (int a = 0; a < n; ++a)
+    rows[a] = n < 2 ? lo
+              : power == 1.0 ? lo + (hi - lo) * a / (n - 1.0)  // the even grid, as before the option existed
+              : a + 1 == n ? hi
+                           : lo + (hi - lo) * (1.0 - std::pow(1.0 - a / (n - 1.0), power));
+  return rows;
+}
+
 MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::string& where,
               const MlpProgress& progress, const RbfFitSettings* teacher_rbf) {
   if (s.hidden_layers < 0 || s.width < 1 || s.max_epochs < 1 || !(s.learning_rate > 0.0) ||
       !(s.final_learning_rate > 0.0) || s.batch_size < 0 || !(s.validation_fraction >= 0.0 && s.validation_fraction < 1.0) ||
-      s.patience < 0 || !(s.weight_decay >= 0.0) || !(s.relative_floor > 0.0) || s.threads < 1)
+      s.patience < 0 || !(s.weight_decay >= 0.0) || !(s.relative_floor > 0.0) || s.threads < 1 ||
+      s.lbfgs_iterations < 0 || s.lbfgs_history < 1 || !(s.teacher_depth_power >= 1.0))
     throw std::invalid_argument("fitMlp: invalid settings (parseFitConfig rejects them)");
   const int P = points.pointCount(), K = points.vertexCount(), O = 3 * K;
   if (P < 2)
@@ -214,6 +227,33 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     }
   }
 
+  // Zero anchors: the training points whose wrench is exactly zero (mlp_function.hpp). The bumps'
+  // radius is the smallest normalized distance between two of them (with a single anchor, to the
+  // nearest other training point), so each bump vanishes at the other anchors.
+  std::vector<int> anchor_rows;
+  if (s.zero_anchors) {
+    for (int i : train)
+      if (i < P && (Y.row(i).array() == 0.0).all()) anchor_rows.push_back(i);
+    const Eigen::Array2d inv_std = params.input_std.cwiseInverse().array();
+    const auto distance = [&](int a, int b) {
+      return ((F.row(a) - F.row(b)).transpose().array() * inv_std).matrix().norm();
+    };
+    double radius = std::numeric_limits<double>::infinity();
+    for (size_t a = 0; a < anchor_rows.size(); ++a)
+      for (size_t b = a + 1; b < anchor_rows.size(); ++b)
+        if (const double d = distance(anchor_rows[a], anchor_rows[b]); d > 0.0) radius = std::min(radius, d);
+    if (anchor_rows.size() == 1)
+      for (int i : train)
+        if (const double d = distance(anchor_rows[0], i); d > 0.0) radius = std::min(radius, d);
+    if (!anchor_rows.empty() && std::isfinite(radius)) {
+      params.anchors = rowsOf(F, anchor_rows);
+      params.anchor_radius = radius;
+    } else {
+      anchor_rows.clear();
+    }
+  }
+  const bool anchored = !anchor_rows.empty();
+
   // Normalized inputs and targets, the loss weights.
   const Eigen::MatrixXd Xn = (F.rowwise() - params.input_mean.transpose()).array().rowwise() /
                              params.input_std.transpose().array();
@@ -235,6 +275,9 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
       const double si = std::max(Y.row(i).cwiseAbs().maxCoeff(), floor);
       Wl.row(i) = unit / si;
     }
+    // At the anchors the loss sees the network itself (below): a mild pull towards N(ξ_a) ≈ 0, on
+    // the scale of the largest wrench, so a small floor does not let these rows dominate.
+    for (int i : anchor_rows) Wl.row(i) = unit / std::max(floor, largest > 0.0 ? largest : 1.0);
   }
 
   // ---- training ---------------------------------------------------------------------------------
@@ -254,8 +297,24 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
                       D_all = toTensor(depth_col);
   const torch::Tensor out_scale = toTensor(params.output_scale).unsqueeze(0),
                       out_offset = toTensor(params.output_offset).unsqueeze(0);
-  // The loss on rows x (normalized inputs), targets t, weights w, depths −φ (column d).
-  const auto loss = [&](const torch::Tensor& x, const torch::Tensor& t, const torch::Tensor& w, const torch::Tensor& d) {
+  // With zero anchors the normalized output is y(x) − Σ_a b_a(x) (y(x_a) + offset ⊘ scale), i.e.
+  // W = N − Σ_a b_a N(ξ_a) in normalized units. The bumps are zeroed on the anchors' own rows, so there
+  // the loss sees the network itself (N(ξ_a) ≈ 0 keeps the correction small and the model smooth),
+  // while the anchored model is exactly zero there anyway.
+  Eigen::MatrixXd bumps = Eigen::MatrixXd::Zero(P + T, std::max<Eigen::Index>(params.anchors.rows(), 1));
+  torch::Tensor X_anchor, anchor_shift;
+  if (anchored) {
+    mlpAnchorBumps(params, F, bumps);
+    for (int i : anchor_rows) bumps.row(i).setZero();
+    X_anchor = toTensor(Eigen::MatrixXd((params.anchors.rowwise() - params.input_mean.transpose()).array().rowwise() /
+                                        params.input_std.transpose().array()));
+    anchor_shift = toTensor(Eigen::VectorXd(params.output_offset.cwiseQuotient(params.output_scale))).unsqueeze(0);
+  }
+  const torch::Tensor B_all = toTensor(bumps);
+  // The loss on rows x (normalized inputs), targets t, weights w, depths −φ (column d), bumps b.
+  const auto loss = [&](const torch::Tensor& x, const torch::Tensor& t, const torch::Tensor& w, const torch::Tensor& d,
+                        const torch::Tensor& b) {
+    if (anchored) return weightedLoss(net.forward(x) - torch::mm(b, net.forward(X_anchor) + anchor_shift), t, w);
     if (!depth_envelope) return weightedLoss(net.forward(x), t, w);
     return weightedLoss(d * (net.forward(x) * out_scale + out_offset), t, w);
   };
@@ -264,13 +323,14 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     return t.index_select(0, torch::tensor(r, torch::kInt64));
   };
   const torch::Tensor Xt = select(X_all, train), Ytn = select(Y_all, train), Wt = select(W_all, train),
-                      Dt = select(D_all, train);
-  torch::Tensor Xv, Yvn, Wv, Dv;
+                      Dt = select(D_all, train), Bt = select(B_all, train);
+  torch::Tensor Xv, Yvn, Wv, Dv, Bv;
   if (!val.empty()) {
     Xv = select(X_all, val);
     Yvn = select(Y_all, val);
     Wv = select(W_all, val);
     Dv = select(D_all, val);
+    Bv = select(B_all, val);
   }
   const int n_train = static_cast<int>(train.size());
   const int batch = s.batch_size == 0 ? n_train : std::min(s.batch_size, n_train);
@@ -285,30 +345,54 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   const double decay = std::log(s.final_learning_rate / s.learning_rate);
   const auto start = std::chrono::steady_clock::now();
 
-  for (int epoch = 1; epoch <= s.max_epochs; ++epoch) {
-    const double lr =
-        s.learning_rate * std::exp(decay * (s.max_epochs > 1 ? (epoch - 1.0) / (s.max_epochs - 1.0) : 0.0));
-    for (auto& group : adam.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
-    if (batch == n_train) {
+  // After the Adam epochs, optionally full-batch L-BFGS (strong-Wolfe line search) on the training
+  // set, kLbfgsChunk iterations per "epoch" (one history row, one early-stopping check each).
+  const int lbfgs_epochs = (s.lbfgs_iterations + kLbfgsChunk - 1) / kLbfgsChunk;
+  const int total_epochs = s.max_epochs + lbfgs_epochs;
+  std::unique_ptr<torch::optim::LBFGS> lbfgs;
+  for (int epoch = 1; epoch <= total_epochs; ++epoch) {
+    const bool adam_epoch = epoch <= s.max_epochs;
+    const double lr = adam_epoch ? s.learning_rate * std::exp(decay * (s.max_epochs > 1 ? (epoch - 1.0) / (s.max_epochs - 1.0) : 0.0))
+                                 : 1.0;
+    if (adam_epoch)
+      for (auto& group : adam.param_groups()) static_cast<torch::optim::AdamOptions&>(group.options()).lr(lr);
+    if (!adam_epoch) {
+      const int iterations = std::min(kLbfgsChunk, s.lbfgs_iterations - (epoch - s.max_epochs - 1) * kLbfgsChunk);
+      if (!lbfgs)
+        lbfgs = std::make_unique<torch::optim::LBFGS>(
+            net.parameters(), torch::optim::LBFGSOptions(1.0)
+                                  .max_iter(iterations)
+                                  .history_size(s.lbfgs_history)
+                                  .tolerance_grad(0.0)
+                                  .tolerance_change(0.0)
+                                  .line_search_fn("strong_wolfe"));
+      static_cast<torch::optim::LBFGSOptions&>(lbfgs->param_groups()[0].options()).max_iter(iterations);
+      lbfgs->step([&]() {
+        lbfgs->zero_grad();
+        torch::Tensor l = loss(Xt, Ytn, Wt, Dt, Bt);
+        l.backward();
+        return l;
+      });
+    } else if (batch == n_train) {
       adam.zero_grad();
-      loss(Xt, Ytn, Wt, Dt).backward();
+      loss(Xt, Ytn, Wt, Dt, Bt).backward();
       adam.step();
     } else {
       for (int i = n_train - 1; i > 0; --i) std::swap(order[i], order[rng() % static_cast<unsigned>(i + 1)]);
       for (int b = 0; b < n_train; b += batch) {
         const std::vector<int> rows(order.begin() + b, order.begin() + std::min(b + batch, n_train));
         const torch::Tensor xb = select(Xt, rows), yb = select(Ytn, rows), wb = select(Wt, rows),
-                            db = select(Dt, rows);
+                            db = select(Dt, rows), bb = select(Bt, rows);
         adam.zero_grad();
-        loss(xb, yb, wb, db).backward();
+        loss(xb, yb, wb, db, bb).backward();
         adam.step();
       }
     }
     double train_loss, val_loss = std::numeric_limits<double>::quiet_NaN();
     {
       torch::NoGradGuard no_grad;
-      train_loss = loss(Xt, Ytn, Wt, Dt).item<double>();
-      if (!val.empty()) val_loss = loss(Xv, Yvn, Wv, Dv).item<double>();
+      train_loss = loss(Xt, Ytn, Wt, Dt, Bt).item<double>();
+      if (!val.empty()) val_loss = loss(Xv, Yvn, Wv, Dv, Bv).item<double>();
     }
     if (!std::isfinite(train_loss) || (!val.empty() && !std::isfinite(val_loss))) {
       std::ostringstream m;
@@ -329,7 +413,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     if (progress) {
       MlpEpochStatus st;
       st.epoch = epoch;
-      st.max_epochs = s.max_epochs;
+      st.max_epochs = total_epochs;
       st.train_loss = train_loss;
       st.validation_loss = val_loss;
       st.best_epoch = fit.best_epoch;
@@ -338,7 +422,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
       st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
       progress(st);
     }
-    if (s.patience > 0 && epoch - fit.best_epoch >= s.patience && epoch < s.max_epochs) {
+    if (s.patience > 0 && epoch - fit.best_epoch >= s.patience && epoch < total_epochs) {
       fit.stopped_early = true;
       break;
     }

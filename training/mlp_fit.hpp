@@ -82,6 +82,10 @@ struct MlpFitSettings {
   int threads = 1;
   std::array<int, 2> teacher_grid{0, 0};  // n_φ × n_β RBF samples added to the training set; 0 = none
   MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // "depth": W = (−φ) ⊙ N (mlp_function.hpp)
+  int lbfgs_iterations = 0;  // full-batch L-BFGS iterations after the Adam epochs; 0 = none
+  int lbfgs_history = 50;    // L-BFGS memory (curvature pairs)
+  double teacher_depth_power = 1.0;  // ≥ 1: teacher rows at φ_lo + (φ_hi − φ_lo)(1 − (1 − t)^p), t uniform
+  bool zero_anchors = false;  // anchor the model at the zero-wrench training points (mlp_function.hpp)
 };
 
 // What the callback sees after every epoch (1-based epochs).
@@ -119,6 +123,11 @@ struct MlpFit {
 struct RbfFitSettings;
 MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& settings, const std::string& where,
               const MlpProgress& progress = {}, const RbfFitSettings* teacher_rbf = nullptr);
+
+// The depths φ of the teacher grid's n rows between lo and hi (the surface side): lo + (hi − lo)(1 − (1 − t)^power),
+// t = 0, 1/(n − 1), ..., 1 (the last row exactly hi; n = 1: lo). power 1 spaces them evenly, more packs them
+// towards hi, where the sand wrench changes fastest (mlp.teacher_depth_power).
+std::vector<double> teacherDepthRows(double lo, double hi, int n, double power);
 
 // What a fit records, as RbfFitRecord does for the RBF.
 struct MlpFitRecord {
