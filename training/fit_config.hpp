@@ -41,8 +41,13 @@
 //       "teacher_grid": [0, 0],       [n_φ, n_β] ≥ 1: also train on the "rbf" section's RBF through
 //                                     the same points, sampled on this grid over the points at or
 //                                     below the surface; [0, 0] = no teacher (mlp_fit.hpp)
-//       "output_envelope": "none"     or "depth": the model is W = (−φ) N, zero at the surface
+//       "output_envelope": "none",    or "depth": the model is W = (−φ) N, zero at the surface
 //                                     (contact_models/mlp_function.hpp, mlp_fit.hpp)
+//       "lbfgs_iterations": 0,        ≥ 0: full-batch L-BFGS iterations after the Adam epochs
+//       "lbfgs_history": 50,          ≥ 1: L-BFGS memory
+//       "zero_anchors": false,        true: W exactly zero at the zero-wrench training points
+//                                     (mlp_function.hpp; not with output_envelope "depth")
+//       "teacher_depth_power": 1      in [1, 100]: teacher rows packed towards the surface
 //     },
 //     "geometry": {                   stored in the model file (planar_wrench_model.hpp)
 //       "torque_centre": "data",      m up the leg; "data" = the dataset's (an error if it has none)

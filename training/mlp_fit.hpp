@@ -38,6 +38,17 @@
 //     set (never to validation). A network trained on ~100 scattered points alone interpolates
 //     between them quite differently from a thin-plate spline (training/README.md has the numbers);
 //     the teacher pins it to the smooth interpolant in between;
+//   * L-BFGS (optional, lbfgs_iterations > 0): after the Adam epochs, torch::optim::LBFGS (lr 1,
+//     strong-Wolfe line search, lbfgs_history pairs, no tolerance stop) on the whole training set,
+//     10 iterations per recorded epoch (one history row and one early-stopping check each);
+//   * zero anchors (optional, zero_anchors): the training points whose wrench is exactly zero become
+//     the anchors of mlp_function.hpp, radius R = the smallest normalized distance between two of
+//     them (one anchor: to the nearest other training point), so the model is exactly zero there. The
+//     loss is that of the anchored model (in the torch graph), except on the anchors' own rows, where
+//     it is the network itself relative to the largest wrench S (a mild pull to N(ξ_a) ≈ 0 that keeps
+//     the correction, and the wrench just above the surface, small);
+//   * teacher_depth_power p ≥ 1: the teacher grid's rows at φ_lo + (φ_hi − φ_lo)(1 − (1 − t)^p)
+//     (teacherDepthRows), denser towards the surface for p > 1;
 //   * early stopping: after every epoch the loss on the validation points; the weights of the best
 //     epoch are kept and restored at the end; training stops after `patience` epochs without a new
 //     best (0: never early). Without validation points (validation_fraction 0) "best" is the lowest
