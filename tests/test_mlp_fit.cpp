@@ -322,6 +322,10 @@ TEST(MlpFit, ZeroAnchorsMakeTheModelVanishAtTheZeroWrenchTrainingPoints) {
   expectSameModelFiles(a, b, true);
   EXPECT_EQ(loadMlpModel(a).parameters.anchors, p.anchors);
   EXPECT_EQ(out.record.settings["mlp"]["zero_anchors"], true);
+  expectAll(formatMlpFitReport(out.record), {"zero anchors: the " + std::to_string(zero.size()) + " zero-wrench"});
+  FitConfig both = c;
+  both.mlp.output_envelope = MlpOutputEnvelope::Depth;
+  EXPECT_THROW(fitMlpToDataset(smallDataset(), both, "synthetic"), std::invalid_argument);
   EXPECT_EQ(out.record.settings["mlp"]["lbfgs_iterations"], 50);
 }
 

@@ -138,7 +138,8 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   if (s.hidden_layers < 0 || s.width < 1 || s.max_epochs < 1 || !(s.learning_rate > 0.0) ||
       !(s.final_learning_rate > 0.0) || s.batch_size < 0 || !(s.validation_fraction >= 0.0 && s.validation_fraction < 1.0) ||
       s.patience < 0 || !(s.weight_decay >= 0.0) || !(s.relative_floor > 0.0) || s.threads < 1 ||
-      s.lbfgs_iterations < 0 || s.lbfgs_history < 1 || !(s.teacher_depth_power >= 1.0))
+      s.lbfgs_iterations < 0 || s.lbfgs_history < 1 || !(s.teacher_depth_power >= 1.0) ||
+      (s.zero_anchors && s.output_envelope != MlpOutputEnvelope::None))
     throw std::invalid_argument("fitMlp: invalid settings (parseFitConfig rejects them)");
   const int P = points.pointCount(), K = points.vertexCount(), O = 3 * K;
   if (P < 2)
@@ -472,6 +473,9 @@ std::string formatMlpFitReport(const MlpFitRecord& r) {
   if (fit.teacher_samples > 0)
     s << "plus " << fit.teacher_samples << " teacher samples for training (the \"rbf\" section's RBF through these "
       << "points, on an mlp.teacher_grid over the points at or below the surface)\n";
+  if (fit.parameters.anchors.rows() > 0)
+    s << "zero anchors: the " << fit.parameters.anchors.rows() << " zero-wrench training points (bump radius "
+      << fit.parameters.anchor_radius << " in normalized inputs): the model is exactly zero there\n";
   s << "network: ";
   for (size_t i = 0; i < sizes.size(); ++i) s << (i ? "-" : "") << sizes[i];
   s << " " << mlpActivationName(fit.parameters.activation) << ", " << n_params << " parameters\n";
