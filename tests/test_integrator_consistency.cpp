@@ -1,7 +1,8 @@
 // The integrator as a whole (advance(), StepSolver): independent methods agree, errors are clear,
 // runs are reproducible and stepping allocates nothing.
 //  * PGM and ZOPGM reach the same step solution (NE and PBD form) on random contact states, and the
-//    paper's zeroth-order variant where the solution is pinned;
+//    paper's zeroth-order variant where the solution is pinned; the penalty a step starts from
+//    changes its path, not its solution;
 //  * NE and PBD trajectories converge to each other as dt → 0 (first order);
 //  * a first-order method with a derivative-less contact model is refused, naming the zeroth-order
 //    twin; the twin runs and never asks the model for a derivative;
@@ -122,6 +123,79 @@ TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStepOnRandomContactStates) {
     for (int j = 0; j < 3; ++j) qd[j] = 0.5 * unit(rng);
     for (int j = 6; j < robot.model.nq; ++j) qd[j] = 2 * unit(rng);
     expectSameStep(robot.system, q, qd, 0.01, "random quadruped " + std::to_string(trial));
+  }
+}
+
+// The penalty a step starts from (IntegratorOptions::adapt_start_penalty) changes the path of the
+// trust-region iteration, not where it stops: the same kind of random states as above, from β_min
+// (the inherited β after a converged step), the default and a penalty that makes the first moves
+// tiny. The solver stops once the decrease of K falls below what K resolves, r = 64 eps |K| +
+// ‖∇K‖₁ · (the θ accuracy of the projection), which dominates ε here; both solutions then lie within
+// r of K's minimum, so their K agree within r and, K's first-order term being non-negative at a
+// constrained minimum, ½ΔθᵀΔ∇²K Δθ ≤ (√r + √r)² = 4r. (In θ itself they differ by up to 2e-6 in the
+// light directions: a leg joint of 1e-4 kg·m² at 10 ms has a curvature of only 1 J/rad².)
+TEST(IntegratorConsistency, StepSolutionDoesNotDependOnTheStartingPenalty) {
+  test::BoxOnPlane box(true);
+  test::QuadrupedOnPlane robot;
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double h = 0.01;
+  struct Solution {
+    Vec theta;
+    double K = 0, resolution = 0;
+    Eigen::MatrixXd hess_K;
+    int iterations = 0;
+  };
+  auto solve = [h](const System& system, const char* method, const Vec& q, const Vec& qd, double beta) {
+    IntegratorOptions options = optionsFor(method);
+    options.epsilon = 1e-10;
+    options.tol_w = 1e-10;
+    StepSolver solver(system);
+    const SimulationState state = initialState(system, options, q, qd, h);
+    const PdTarget target{q, Vec::Zero(q.size())};
+    const StepAttempt a =
+        solver.attempt(system, options, state, h, target, Vec::Zero(solver.residual().weightCount()), beta);
+    EXPECT_EQ(a.status, StepStatus::Converged) << method << " from β " << beta;
+    StepResidual& r = solver.residual();
+    r.evaluate(system, solver.theta(), solver.weights(), ContactDerivative::Model);
+    // The solver's K resolution (StepSolver::stepIsWorthTaking and project()).
+    const double m = system.model->total_mass, lever = 1.0 + solver.theta().lpNorm<Eigen::Infinity>();
+    const double G_tolerance = options.projection_tolerance * m * system.model->gravity.norm() +
+                               1e3 * std::numeric_limits<double>::epsilon() * m * lever * lever / (h * h);
+    const double resolution = 64 * std::numeric_limits<double>::epsilon() * std::abs(r.K) +
+                              r.grad_K.lpNorm<1>() * G_tolerance * h * h / m;
+    return Solution{solver.theta(), r.K, resolution, r.hess_K, a.outer_iterations};
+  };
+  for (int trial = 0; trial < 6; ++trial) {
+    const bool quadruped = trial >= 3;
+    Vec q, qd;
+    if (quadruped) {  // 2-5 mm deep, the base moving at up to 0.5 m/s and the joints at up to 2 rad/s
+      q = robot.standing(3.5e-3 + 1.5e-3 * unit(rng));
+      qd = Vec::Zero(robot.model.nq);
+      for (int j = 0; j < 3; ++j) qd[j] = 0.5 * unit(rng);
+      for (int j = 6; j < robot.model.nq; ++j) qd[j] = 2 * unit(rng);
+    } else {  // a box 0-3 mm deep, tilted, sliding, sinking and turning
+      q = Vec::Zero(6);
+      qd = Vec::Zero(6);
+      q[2] = box.restingHeight() - 1.5e-3 * (1 + unit(rng));
+      q[3] = 0.1 * unit(rng);
+      qd << unit(rng), unit(rng), 0.3 * unit(rng), 2 * unit(rng), 2 * unit(rng), 2 * unit(rng);
+    }
+    const System& system = quadruped ? robot.system : box.system;
+    for (const char* method : {"ne-pgm", "pbd-pgm"}) {
+      const Solution reference = solve(system, method, q, qd, 1e-4);
+      for (double beta : {1e-1, 1e3}) {
+        const Solution s = solve(system, method, q, qd, beta);
+        const Vec d = s.theta - reference.theta;
+        const double r = std::max(s.resolution, reference.resolution), curvature = 0.5 * d.dot(reference.hess_K * d);
+        std::printf("  trial %d %-8s from β %-6g vs 1e-4: %2d vs %2d outer iterations; |ΔK| %.1e, ½ΔθᵀΔ∇²KΔθ %.1e, "
+                    "r %.1e, |Δθ|∞ %.1e\n",
+                    trial, method, beta, s.iterations, reference.iterations, std::abs(s.K - reference.K), curvature, r,
+                    d.lpNorm<Eigen::Infinity>());
+        EXPECT_LE(std::abs(s.K - reference.K), r) << "trial " << trial << " " << method << " from β " << beta;
+        EXPECT_LE(curvature, 4 * r) << "trial " << trial << " " << method << " from β " << beta;
+      }
+    }
   }
 }
 

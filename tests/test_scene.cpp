@@ -86,7 +86,7 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
   EXPECT_EQ(r.at("contacts").at("model").at("type"), "coulomb");
   EXPECT_EQ(r.at("terrain").at("type"), "plane");
   for (const char* key : {"method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta",
-                          "beta_min", "beta_max", "max_outer_iterations", "projection_tolerance",
+                          "beta_min", "beta_max", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance",
                           "projection_max_iterations", "projection_backtracking", "warm_start_weights",
                           "predict_first_iterate", "zeroth_order_jacobian"})
     EXPECT_TRUE(r.at("integrator").contains(key)) << key;

@@ -209,7 +209,7 @@ const std::vector<std::string> kContactsKeys = {"points", "model"};
 const std::vector<std::string> kPointKeys = {"link", "offset", "radius", "name"};
 const std::vector<std::string> kIntegratorKeys = {
     "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "beta_min", "beta_max",
-    "beta_initial", "max_outer_iterations", "projection_tolerance", "projection_max_iterations",
+    "beta_initial", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance", "projection_max_iterations",
     "projection_backtracking", "warm_start_weights", "predict_first_iterate", "zeroth_order_jacobian"};
 const std::vector<std::string> kControllerKeys = {"kp", "kd", "tau_ff", "gait"};
 const std::vector<std::string> kOutputKeys = {"file", "every"};
@@ -383,6 +383,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   o.beta_max = number(in, "beta_max", o.beta_max, w, above(o.beta_min));
   o.beta_initial = number(in, "beta_initial", std::clamp(o.beta_initial, o.beta_min, o.beta_max), w,
                           atLeast(o.beta_min), atMost(o.beta_max));
+  o.adapt_start_penalty = boolean(in, "adapt_start_penalty", o.adapt_start_penalty, w);
   o.max_outer_iterations = integer(in, "max_outer_iterations", o.max_outer_iterations, w, 1);
   o.projection_tolerance = number(in, "projection_tolerance", o.projection_tolerance, w, above(0));
   o.projection_max_iterations = integer(in, "projection_max_iterations", o.projection_max_iterations, w, 1);
@@ -406,6 +407,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
          {"beta_min", o.beta_min},
          {"beta_max", o.beta_max},
          {"beta_initial", o.beta_initial},
+         {"adapt_start_penalty", o.adapt_start_penalty},
          {"max_outer_iterations", o.max_outer_iterations},
          {"projection_tolerance", o.projection_tolerance},
          {"projection_max_iterations", o.projection_max_iterations},

@@ -1,5 +1,6 @@
 #include "solver/integrator.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -55,7 +56,7 @@ struct Recursion {
     StepSolver& solver = ws.solver;
     const Eigen::VectorXd& w_start = options.warm_start_weights ? state.w : ws.zero_weights;
     // β carries over from accepted steps only: a failed attempt leaves it where it started.
-    double beta = state.beta;
+    double beta = options.adapt_start_penalty ? std::max(state.beta, state.beta_start) : state.beta;
     const StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, beta);
     stats.outer_iterations += a.outer_iterations;
     stats.g_evaluations += a.g_evaluations;
@@ -64,6 +65,12 @@ struct Recursion {
     stats.rejected += a.rejected;
     if (a.status == StepStatus::Converged) {
       state.beta = beta;
+      if (options.adapt_start_penalty && a.first_agreement >= 0) {
+        const double start = a.first_agreement < 0.5   ? 2 * a.first_beta
+                             : a.first_agreement > 0.9 ? 0.5 * a.first_beta
+                                                       : a.first_beta;
+        state.beta_start = std::clamp(start, options.beta_min, options.beta_max);
+      }
       accept(h);
       return true;
     }
@@ -183,7 +190,7 @@ SimulationState initialState(const System& system, const IntegratorOptions& opti
   s.qd = qd;
   s.q_prev = q - h * qd;
   s.h_prev = h;
-  s.beta = options.beta_initial;
+  s.beta = s.beta_start = options.beta_initial;
   const int K = (system.contacts.empty() || !system.contact_model) ? 0 : system.contact_model->vertexCount();
   s.w.setZero(static_cast<Eigen::Index>(system.contacts.size()) * K);
   return s;

@@ -62,6 +62,13 @@ struct IntegratorOptions {
   double beta_min = 1e-4;
   double beta_max = 1e6;
   double beta_initial = 1e-4;    // β of the first step; later steps inherit it (SimulationState::beta)
+  // Start each step from at least the β its predecessor's first move called for, not only from the
+  // β its last moves relaxed to (DESIGN.md carries the latter, usually β_min). The first move of a
+  // step is the long one; from β_min on stiff ground it jumps so far that its projection takes many
+  // damped Newton iterations and K falls by 0.4× the QP's prediction. Its agreement ratio ρ sets the
+  // next step's starting β the way a trust region's radius is set: ρ < 0.5 doubles the β it was
+  // accepted at, ρ > 0.9 halves it. Measured in docs/INTEGRATOR.md.
+  bool adapt_start_penalty = true;
   int max_outer_iterations = 100;
   // Manifold projection: Newton on G(·, w) = 0.
   double projection_tolerance = 1e-9;  // ‖G‖∞ relative to the robot's weight m‖g‖ (or m·1 m/s²)
@@ -109,6 +116,7 @@ struct SimulationState {
   double h_prev = 0.0;     // size of that (sub-)step
   Mat3 base_chart = Mat3::Identity();  // floating base reference orientation (Data::base_chart)
   double beta = 1e-4;      // trust-region penalty carried over between steps (DESIGN.md 3)
+  double beta_start = 1e-4;  // the least β the next step starts from (IntegratorOptions::adapt_start_penalty)
   Eigen::VectorXd w;       // contact weights of the last sub-step (Σ K_c), the warm start
 };
 

@@ -289,6 +289,10 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
         continue;
       }
       const double decrease = K - residual_.K;
+      if (stats.first_agreement < 0) {
+        stats.first_agreement = decrease / predicted_decrease_;
+        stats.first_beta = beta;
+      }
       const double moved = (candidate - theta_).lpNorm<Eigen::Infinity>();
       theta_.swap(candidate);
       w_.swap(w_trial_);

@@ -41,6 +41,9 @@ namespace nmdp {
 struct StepAttempt {
   StepStatus status = StepStatus::Converged;
   int outer_iterations = 0, g_evaluations = 0, projections = 0, newton_iterations = 0, rejected = 0;
+  // The first accepted move: its actual decrease of K over the QP's predicted one (−1 if there was
+  // none), and the β it was accepted at.
+  double first_agreement = -1, first_beta = 0;
 };
 
 class StepSolver {
