@@ -37,6 +37,14 @@ using json = nlohmann::json;
 
 ForceDataset smallDataset() { return syntheticDataset(4, {-0.04, -0.03, -0.02, -0.01, 0.0}, {-0.6, -0.3, 0.0, 0.3, 0.6}); }
 
+// The relative loss's scale (mlp_fit.hpp): the largest wrench entry over the training points.
+double largestTrainingWrench(const PlanarPoints& pts, const std::vector<bool>& validation) {
+  double largest = 0.0;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!validation[i]) largest = std::max(largest, pts.values.row(i).cwiseAbs().maxCoeff());
+  return largest;
+}
+
 FitConfig quickConfig() {
   FitConfig c;
   c.augmentation.above_heights = {0.02, 0.05};
@@ -297,9 +305,7 @@ TEST(MlpFit, ZeroAnchorsMakeTheModelVanishAtTheZeroWrenchTrainingPoints) {
   for (int i : zero) EXPECT_LT(fit.error.row(i).cwiseAbs().maxCoeff(), 1e-12 * scale) << "point " << i;
   // The training loss recorded is the relative loss of the anchored model, with the network itself
   // at the anchors (where the anchored model is zero), there relative to the largest wrench.
-  double largest = 0.0;
-  for (int i = 0; i < pts.pointCount(); ++i)
-    if (!fit.validation[i]) largest = std::max(largest, pts.values.row(i).cwiseAbs().maxCoeff());
+  const double largest = largestTrainingWrench(pts, fit.validation);
   const double floor = c.mlp.relative_floor * largest;
   double sum = 0.0;
   int count = 0;
@@ -410,10 +416,7 @@ TEST(MlpFit, EarlyStoppingKeepsTheBestValidationEpoch) {
   // The kept weights give that validation loss (recomputed from the recorded errors: the relative loss
   // of mlp_fit.hpp, here in the units of the data).
   const PlanarPoints& pts = out.record.points;
-  double largest = 0.0;  // of the training points
-  for (int i = 0; i < pts.pointCount(); ++i)
-    if (!fit.validation[i]) largest = std::max(largest, pts.values.row(i).cwiseAbs().maxCoeff());
-  const double floor = c.mlp.relative_floor * largest;
+  const double floor = c.mlp.relative_floor * largestTrainingWrench(pts, fit.validation);
   double sum = 0.0;
   int count = 0;
   for (int i = 0; i < pts.pointCount(); ++i) {
