@@ -66,9 +66,11 @@ struct Recursion {
     if (a.status == StepStatus::Converged) {
       state.beta = beta;
       if (options.adapt_start_penalty && a.first_agreement >= 0) {
-        const double start = a.first_agreement < 0.5   ? 2 * a.first_beta
-                             : a.first_agreement > 0.9 ? 0.5 * a.first_beta
-                                                       : a.first_beta;
+        // A trust region's radius rule, applied to the next step's first move.
+        constexpr double kOverreached = 0.5, kAgreed = 0.9, kFactor = 2.0;
+        const double start = a.first_agreement < kOverreached ? kFactor * a.first_beta
+                             : a.first_agreement > kAgreed    ? a.first_beta / kFactor
+                                                              : a.first_beta;
         state.beta_start = std::clamp(start, options.beta_min, options.beta_max);
       }
       accept(h);
