@@ -86,7 +86,8 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
   EXPECT_EQ(r.at("contacts").at("model").at("type"), "coulomb");
   EXPECT_EQ(r.at("terrain").at("type"), "plane");
   for (const char* key : {"method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta",
-                          "beta_min", "beta_max", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance",
+                          "eta_reject", "eta_limited", "beta_min", "beta_max", "beta_initial", "adapt_start_penalty",
+                          "max_outer_iterations", "projection_tolerance",
                           "projection_max_iterations", "projection_backtracking", "warm_start_weights",
                           "predict_first_iterate", "zeroth_order_jacobian"})
     EXPECT_TRUE(r.at("integrator").contains(key)) << key;
@@ -128,6 +129,7 @@ TEST(Scene, OverridesNumbersBoolsStringsNewKeysArrays) {
   applyOverride(s, "integrator.dt=0.01", f.scene_path);
   applyOverride(s, "integrator.adaptive=false", f.scene_path);
   applyOverride(s, "integrator.method=ne-zopgm", f.scene_path);
+  applyOverride(s, "integrator.eta_limited=1.5", f.scene_path);
   applyOverride(s, "controller.gait.type=jump", f.scene_path);
   applyOverride(s, "contacts.model.type=rbf", f.scene_path);
   applyOverride(s, "contacts.model.file=sand.h5", f.scene_path);
@@ -145,6 +147,7 @@ TEST(Scene, OverridesNumbersBoolsStringsNewKeysArrays) {
   EXPECT_EQ(c.dt, 0.01);
   EXPECT_FALSE(c.integrator.adaptive);
   EXPECT_EQ(c.integrator.method, Method::NeZopgm);
+  EXPECT_EQ(c.integrator.eta_limited, 1.5);
   EXPECT_EQ(c.gait_type, SceneGaitType::Jump);
   EXPECT_EQ(c.contact_model.at("type"), "rbf");
   EXPECT_EQ(c.contact_model.at("file"), (f.dir.path() / "sand.h5").string());  // relative to the scene
@@ -221,6 +224,7 @@ TEST(Scene, EveryBadInputHasAnActionableMessage) {
        {"robot.initial.height: a fixed base has no base pose"}},
       {"planar base with roll", [](json& s) { s["robot"]["base"] = "planar"; s["robot"]["initial"]["base_rpy"] = {0.1, 0, 0}; },
        {"robot.initial.base_rpy: a planar base only pitches"}},
+      {"penalty relaxation of 1", [](json& s) { s["integrator"]["eta_limited"] = 1; }, {"integrator.eta_limited: must be", "got 1"}},
       {"min substep above dt", [](json& s) { s["integrator"]["min_substep"] = 0.1; }, {"integrator.min_substep: must be in (0, 0.05], got 0.1"}},
       {"keyframe period without cyclic", [](json& s) { s["controller"]["gait"] = {{"type", "keyframes"}, {"file", "k.csv"}, {"period", 2}}; },
        {"controller.gait.period: only used with \"cyclic\": true"}},

@@ -208,9 +208,10 @@ const std::vector<std::string> kVelocityKeys = {"base_linear", "base_angular"};
 const std::vector<std::string> kContactsKeys = {"points", "model"};
 const std::vector<std::string> kPointKeys = {"link", "offset", "radius", "name"};
 const std::vector<std::string> kIntegratorKeys = {
-    "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "beta_min", "beta_max",
-    "beta_initial", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance", "projection_max_iterations",
-    "projection_backtracking", "warm_start_weights", "predict_first_iterate", "zeroth_order_jacobian"};
+    "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "eta_limited",
+    "beta_min", "beta_max", "beta_initial", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance",
+    "projection_max_iterations", "projection_backtracking", "warm_start_weights", "predict_first_iterate",
+    "zeroth_order_jacobian"};
 const std::vector<std::string> kControllerKeys = {"kp", "kd", "tau_ff", "gait"};
 const std::vector<std::string> kOutputKeys = {"file", "every"};
 const std::vector<std::string> kGaitTypes = {"stand", "trot", "jump", "keyframes"};
@@ -379,6 +380,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   o.tol_w = number(in, "tol_w", o.tol_w, w, above(0));
   o.eta = number(in, "eta", o.eta, w, above(1));
   o.eta_reject = number(in, "eta_reject", o.eta_reject, w, above(1));
+  o.eta_limited = number(in, "eta_limited", o.eta_limited, w, above(1));
   o.beta_min = number(in, "beta_min", o.beta_min, w, above(0));
   o.beta_max = number(in, "beta_max", o.beta_max, w, above(o.beta_min));
   o.beta_initial = number(in, "beta_initial", std::clamp(o.beta_initial, o.beta_min, o.beta_max), w,
@@ -404,6 +406,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
          {"tol_w", o.tol_w},
          {"eta", o.eta},
          {"eta_reject", o.eta_reject},
+         {"eta_limited", o.eta_limited},
          {"beta_min", o.beta_min},
          {"beta_max", o.beta_max},
          {"beta_initial", o.beta_initial},

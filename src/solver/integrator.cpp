@@ -178,11 +178,13 @@ void validateSystem(const System& system, const IntegratorOptions& options) {
                                 " needs the contact model's derivative, and " + system.contact_model->describe() +
                                 " has none; use " + methodName(twin) + " (zeroth order) instead");
   }
-  if (!(options.min_substep > 0) || !(options.eta > 1) || !(options.eta_reject > 1) || !(options.beta_min > 0) ||
-      !(options.beta_max >= options.beta_min) || !(options.tol_w > 0) || !(options.epsilon > 0) ||
-      options.max_outer_iterations < 1 || options.projection_max_iterations < 1 || !(options.projection_tolerance > 0))
+  if (!(options.min_substep > 0) || !(options.eta > 1) || !(options.eta_reject > 1) || !(options.eta_limited > 1) ||
+      !(options.beta_min > 0) || !(options.beta_max >= options.beta_min) || !(options.tol_w > 0) ||
+      !(options.epsilon > 0) || options.max_outer_iterations < 1 || options.projection_max_iterations < 1 ||
+      !(options.projection_tolerance > 0))
     throw std::invalid_argument("integrator: options out of range (need min_substep, tol_w, epsilon, beta_min, "
-                                "projection_tolerance > 0, eta > 1, beta_max >= beta_min, iteration limits >= 1)");
+                                "projection_tolerance > 0, eta, eta_reject, eta_limited > 1, beta_max >= beta_min, "
+                                "iteration limits >= 1)");
 }
 
 SimulationState initialState(const System& system, const IntegratorOptions& options, const Eigen::VectorXd& q,

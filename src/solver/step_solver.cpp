@@ -289,10 +289,15 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
         continue;
       }
       const double decrease = K - residual_.K;
+      const double agreement = decrease / predicted_decrease_;
       if (stats.first_agreement < 0) {
-        stats.first_agreement = decrease / predicted_decrease_;
+        stats.first_agreement = agreement;
         stats.first_beta = beta;
+        previous_predicted_decrease_ = 0.0;
       }
+      const bool penalty_limited = agreement > kModelAgreed && previous_predicted_decrease_ > 0 &&
+                                   predicted_decrease_ > kSamePace * previous_predicted_decrease_;
+      previous_predicted_decrease_ = predicted_decrease_;
       const double moved = (candidate - theta_).lpNorm<Eigen::Infinity>();
       theta_.swap(candidate);
       w_.swap(w_trial_);
@@ -300,7 +305,7 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       K = residual_.K;
       evaluated_here = true;
       need_direction = true;
-      beta = std::max(beta / options.eta, options.beta_min);
+      beta = std::max(beta / (penalty_limited ? options.eta_limited : options.eta), options.beta_min);
       // A small move ends the iteration (DESIGN.md 3), except with the dropped term: that model makes
       // small moves far from the solution (its D̄ overstates how θ follows w), so there only K
       // decides; with the move rule, a block pushed at 0.9 μmg slid 1 m in 1 s instead of sticking.

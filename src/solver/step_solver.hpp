@@ -90,6 +90,10 @@ class StepSolver {
   // A trial PGM step is projected until its residual moves K by at most this fraction of the decrease
   // the QP predicts (see pgm()); the accepted solution is then projected to the full tolerance.
   static constexpr double kTrialLooseness = 0.1;
+  // An accepted move was limited by the penalty (IntegratorOptions::eta_limited) when K fell by more
+  // than kModelAgreed of the QP's prediction and that prediction was at least kSamePace of the
+  // previous move's.
+  static constexpr double kModelAgreed = 0.75, kSamePace = 0.3;
   AndersonAcceleration anderson_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
@@ -101,6 +105,7 @@ class StepSolver {
   Eigen::VectorXd adjoint_;  // λ = (∂G/∂θ)⁻ᵀ ∇K at the current iterate: K moves by λᵀr for a residual r
   double adjoint_norm_ = 0.0;  // ‖λ‖₁
   double predicted_decrease_ = 0.0;    // of K, by the QP model, for the last step
+  double previous_predicted_decrease_ = 0.0;  // ... for the step's previous accepted move (0: none)
   double projection_tolerance_ = 0.0;  // ‖G‖∞ tolerance of the last projection
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
   double mass_scale_ = 1.0;
