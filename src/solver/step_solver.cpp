@@ -206,6 +206,7 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
   bool evaluated_here = true;  // the residual holds G and K at (θ, w)
   bool derivatives_here = false;  // ... and ∂G/∂θ, B, ∇K, ∇²K
   bool need_direction = true;
+  double previous_prediction = 0.0;  // the QP's predicted decrease for the previous accepted move (0: none)
   for (;;) {
     if (stats.outer_iterations == options.max_outer_iterations) {
       stats.status = StepStatus::MaxIterations;
@@ -293,11 +294,10 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       if (stats.first_agreement < 0) {
         stats.first_agreement = agreement;
         stats.first_beta = beta;
-        previous_predicted_decrease_ = 0.0;
       }
-      const bool penalty_limited = agreement > kModelAgreed && previous_predicted_decrease_ > 0 &&
-                                   predicted_decrease_ > kSamePace * previous_predicted_decrease_;
-      previous_predicted_decrease_ = predicted_decrease_;
+      const bool penalty_limited = agreement > kModelAgreed && previous_prediction > 0 &&
+                                   predicted_decrease_ > kSamePace * previous_prediction;
+      previous_prediction = predicted_decrease_;
       const double moved = (candidate - theta_).lpNorm<Eigen::Infinity>();
       theta_.swap(candidate);
       w_.swap(w_trial_);

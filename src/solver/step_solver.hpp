@@ -105,7 +105,6 @@ class StepSolver {
   Eigen::VectorXd adjoint_;  // λ = (∂G/∂θ)⁻ᵀ ∇K at the current iterate: K moves by λᵀr for a residual r
   double adjoint_norm_ = 0.0;  // ‖λ‖₁
   double predicted_decrease_ = 0.0;    // of K, by the QP model, for the last step
-  double previous_predicted_decrease_ = 0.0;  // ... for the step's previous accepted move (0: none)
   double projection_tolerance_ = 0.0;  // ‖G‖∞ tolerance of the last projection
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
   double mass_scale_ = 1.0;
