@@ -31,12 +31,14 @@ contact_repetitions=${NMDP_BENCH_CONTACT_REPETITIONS:-10}
 source_commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 source_dirty=$(git status --porcelain --untracked-files=no 2>/dev/null | head -c1 || true)
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DNMDP_BUILD_BENCH=ON >/dev/null
+# The benchmarks this page reports. bench_fit (issue 6's fit times) and bench_mujoco (issue 7's
+# side-by-side run, which writes docs/results/mujoco_a1.md) run on their own.
 targets=()
-for source in bench/bench_*.cpp; do
-  targets+=("$(basename "$source" .cpp)")
+for target in bench_multibody bench_contact_models bench_integrator; do
+  [ -f "bench/$target.cpp" ] && targets+=("$target")
 done
 if [ ${#targets[@]} -eq 0 ]; then
-  echo "bench.sh: no bench/bench_*.cpp" >&2
+  echo "bench.sh: none of bench/bench_{multibody,contact_models,integrator}.cpp" >&2
   exit 1
 fi
 cmake --build "$build_dir" -j"$(nproc)" --target "${targets[@]}"
@@ -59,8 +61,6 @@ trap 'kill "$sampler" 2>/dev/null || true' EXIT
 json_files=()
 for target in "${targets[@]}"; do
   [ "$target" = bench_integrator ] && continue  # not a Google Benchmark binary: run below
-  # Nor is bench_mujoco (issue 7's side-by-side run): run it on its own, it writes docs/results/mujoco_a1.md.
-  [ "$target" = bench_mujoco ] && continue
   out="$results_dir/$target.json"
   reps=$repetitions
   [ "$target" = bench_contact_models ] && reps=$contact_repetitions
