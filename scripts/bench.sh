@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Builds the benchmarks (Release), runs every build/bench/bench_* single-threaded with repeated,
+# Builds the benchmarks (Release), runs bench_multibody, bench_contact_models and bench_integrator single-threaded with repeated,
 # randomly interleaved runs (--benchmark_enable_random_interleaving, so a burst of load on a shared
 # machine spreads over all benchmarks instead of skewing one) and writes the median and the
 # min–max range over the repetitions to docs/BENCHMARKS.md: the machine (CPU, compiler, -march flags, the BLAS
