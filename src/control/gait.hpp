@@ -45,7 +45,9 @@ struct TrotParameters {
 struct JumpParameters {
   std::optional<double> crouch_depth;    // m the trunk is lowered from standing; default 0.25·L
   std::optional<double> push_off_height;  // m trunk height at full extension, > stand; default stand + 0.4·(H0 − stand)
-  double period = 1.0;                   // s, one crouch–extend–land–pause cycle
+  // s, one crouch–extend–land–pause cycle. 2 s gives a 240 ms push-off: with 1 s (90 ms) the
+  // PD legs throw the project's quadruped and A1 0.6–0.8 m up and flip them at dt = 1 ms.
+  double period = 2.0;
   double pause = 0.4;                    // s standing still at the end of each cycle
   // Shares of the moving time (period − pause): slow crouch, quick extension, rest to land.
   double crouch_share = 0.6;

@@ -41,7 +41,7 @@
 //                  "gait": {"type": stand | trot | jump | keyframes (stand), then per type
 //                    stand:     height
 //                    trot:      height, stride_length, step_height, period (0.5), duty_factor (0.5)
-//                    jump:      height, crouch_depth, push_off_height (> height), period (1), pause (0.4)
+//                    jump:      height, crouch_depth, push_off_height (> height), period (2), pause (0.4)
 //                    keyframes: height, file (required, must exist), cyclic (false), period}}
 //                  Unset sizes default to the robot (control/gait.hpp).
 //   "duration": s > 0 (10)
