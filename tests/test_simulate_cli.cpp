@@ -2,8 +2,9 @@
 // documented one and its first row is the initial state; swapping the method or the contact model
 // with --set is a configuration change only; bad input gives one line on stderr, exit code 1 and
 // no output file; runs are deterministic; a run killed with SIGKILL leaves a readable file; --quiet;
-// RoboSimian (../shared) walks forward steadily and jumps and lands upright over its full scenes.
-// Runs are kept short (duration 0.5–1 s at dt 0.05; the RoboSimian scenes take a second or two).
+// RoboSimian (../shared) walks forward steadily and jumps and lands upright over its full scenes;
+// the quadruped's jump scenes jump and land upright at dt = 1 ms. Runs are kept short (duration
+// 0.5–1 s at dt 0.05; the RoboSimian scenes and the 1 ms jumps take a second or two).
 // tests/CMakeLists.txt gives tests no HDF5 include folder (nmdp_core links HDF5 privately); Debian
 // installs the serial headers under hdf5/serial.
 #if __has_include(<hdf5.h>)
