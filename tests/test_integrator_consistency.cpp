@@ -139,11 +139,12 @@ TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStepOnRandomContactStates) {
 // (IntegratorOptions::eta_limited) change the path of the trust-region iteration, not where it
 // stops: the same kind of random states as above, from β_min (the inherited β after a converged
 // step), the default and a penalty that makes the first moves tiny, the last also with DESIGN.md's
-// single relaxation factor (η_limited = η). The solver stops once the decrease of K falls below what K resolves, r = 64 eps |K| +
-// ‖∇K‖₁ · (the θ accuracy of the projection), which dominates ε here; both solutions then lie within
-// r of K's minimum, so their K agree within r and, K's first-order term being non-negative at a
-// constrained minimum, ½ΔθᵀΔ∇²K Δθ ≤ (√r + √r)² = 4r. (In θ itself they differ by up to 2e-6 in the
-// light directions: a leg joint of 1e-4 kg·m² at 10 ms has a curvature of only 1 J/rad².)
+// single relaxation factor (η_limited = η). The solver stops once the decrease of K falls below
+// what K resolves, r = 64 eps |K| + ‖∇K‖₁ · (the θ accuracy of the projection), which dominates ε
+// here; both solutions then lie within r of K's minimum, so their K agree within r and, K's
+// first-order term being non-negative at a constrained minimum, ½ΔθᵀΔ∇²K Δθ ≤ (√r + √r)² = 4r. (In
+// θ itself they differ by up to 2e-6 in the light directions: a leg joint of 1e-4 kg·m² at 10 ms
+// has a curvature of only 1 J/rad².)
 TEST(IntegratorConsistency, StepSolutionDoesNotDependOnThePenaltySchedule) {
   test::BoxOnPlane box(true);
   test::QuadrupedOnPlane robot;
