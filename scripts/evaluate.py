@@ -900,7 +900,7 @@ def verdict_distance(A, walks, rows):
       "achieve under load: the trunk advances 0.224 / 0.207 / 0.149 m, and the stance legs' joints reach 0.90–1.11, "
       "0.87–1.06 and 0.76–0.79 of the target's amplitude, while the same gait with the trunk held in the air is tracked "
       "to 0.99–1.07 at 1 and at 50 ms. What the longer step changes in the forces is the part of the two stance feet's "
-      "horizontal forces that pull against each other, which maximal dissipation over the step chooses: 85 / 87 / 140 N "
+      "horizontal forces that pull against each other (statically indeterminate; each step's solution sets it): 85 / 87 / 140 N "
       "on average, enough to bend the stance legs under K_p = 1000 by about 0.1 rad, comparable to the stride lost. "
       "Stiffer gains make 50 ms worse, not better, and neither the friction coefficient, the cone's edges, the contact "
       "stiffness, a K over the loaded feet only, a ground-speed-matched swing, the solver's tolerance nor a slower gait "
