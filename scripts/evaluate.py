@@ -908,7 +908,7 @@ def verdict_distance(A, walks, rows):
       "the sand trot goes 1.73 m at 50 ms and 4.0 m at 10 ms). The scenes use the contact-point K (the original "
       "authors' default), which is itself another friction law than the rigid Coulomb limit that the paper's full-body K "
       "reaches as dt → 0 (4.43 against 4.81 m at 1 ms) and loses at large steps (docs/INTEGRATOR.md, 'Which friction "
-      "law K stands for', with a solver for the per-contact law that tracks that limit at 5–10 ms but does not yet "
+      "law K stands for', with a solver for the per-contact law that walks 4.33–4.47 m at 5–10 ms but does not yet "
       "converge from 25 ms). The paper's walking trajectory, gains and contact "
       "stiffness are not published in enough detail to tell what made its lines coincide. Nor is it the joints' light "
       "damping (DESIGN.md's K_d = 1 for 100 kg leaves the legs oscillating at fine dt, which backward Euler damps at "
