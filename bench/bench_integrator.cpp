@@ -117,7 +117,8 @@ int main(int argc, char** argv) {
   }
   const Model model = loadUrdf(std::string(NMDP_SOURCE_DIR) + "/models/quadruped/quadruped.urdf", {});
   const StandingPose pose = standingPose(model, identifyQuadrupedLegs(model), {});
-  const KineticEnergyMeasure body = KineticEnergyMeasure::FullBody, points = KineticEnergyMeasure::ContactPoints;
+  const KineticEnergyMeasure body = KineticEnergyMeasure::FullBody, points = KineticEnergyMeasure::ContactPoints,
+                             body_pd = KineticEnergyMeasure::FullBodyPd;
   const ZerothOrderJacobian dropped = ZerothOrderJacobian::Dropped;
   // The paper's zeroth-order Jacobian takes minutes per run: once each.
   const std::vector<Configuration> methods = {{Method::NePgm, body},
@@ -129,6 +130,10 @@ int main(int argc, char** argv) {
                                               {Method::NeZopgm, points},
                                               {Method::PbdPgm, points},
                                               {Method::PbdZopgm, points},
+                                              {Method::NePgm, body_pd},
+                                              {Method::NeZopgm, body_pd},
+                                              {Method::PbdPgm, body_pd},
+                                              {Method::PbdZopgm, body_pd},
                                               {Method::NeZopgm, body, dropped, 1},
                                               {Method::PbdZopgm, body, dropped, 1}};
   std::vector<std::vector<RunResult>> results(methods.size());

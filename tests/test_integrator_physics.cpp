@@ -6,7 +6,10 @@
 //     grows under ne-pgm and pbd-pgm;
 //  3. a box resting on a plane stays put with support force = weight;
 //  4. a block pushed along an edge of its friction pyramid sticks below μmg and slides with
-//     acceleration (F − μmg)/m above it.
+//     acceleration (F − μmg)/m above it;
+//  5. with a stiff PD spring on one axis and a 50 ms step, the friction of a sliding block is the
+//     one of largest dissipation at the step's end velocity (the rigid Coulomb law) under the
+//     full-body-pd K, and measurably not under the plain full-body K.
 // The robots are tests/data/box.urdf (1 kg, 0.2×0.2×0.1 m, centre of mass at the link origin) and
 // tests/data/pendulum.urdf (1 kg point-like bob, l = 1 m, fixed base).
 #include <gtest/gtest.h>
@@ -521,6 +524,97 @@ TEST(PushedBlock, SlidesAboveFrictionLimitZeroOrder) {
 TEST(PushedBlock, SticksBelowFrictionLimitZeroOrder) {
   for (const char* name : {"ne-zopgm", "pbd-zopgm", "ne-zopgm:dropped", "pbd-zopgm:dropped"})
     checkPush(name, {0.5, 0.9}, {});
+}
+
+// ---------------------------------------------------------------------------------------------
+// 5. Friction direction under an implicit PD at a large step
+// ---------------------------------------------------------------------------------------------
+
+struct DissipationCheck {
+  double gap = 0;          // (f·u − min_i V_i·u Σw) / (μ N |u|): 0 at the largest dissipation
+  double speed = 0;        // |u| at the end of the step, m/s
+  double normal = 0;       // N, newtons
+  std::string failure;
+};
+
+// One 50 ms step of a 1 kg box (tests/data/slider_box.urdf: on x, y, z slides, H = m I) sliding
+// diagonally at 1 m/s on one contact at its centre, with a PD spring k_p = 2000, k_d = 20 on x only: ∂G/∂θ is diag(m/h² + k_p + k_d/h, m/h², …), 7:1 between x and y. The full-body K
+// minimizes ½ θ̇ᵀMθ̇ whose optimality condition is f ∥ −A⁻¹Mθ̇ rather than f ∥ −θ̇; the
+// full-body-pd K adds ½ θ̇ᵀ(h²K_p + hK_d)θ̇, so that its Hessian is A and the condition is f ∥ −θ̇.
+DissipationCheck slideUnderPd(const char* method, KineticEnergyMeasure measure) {
+  UrdfOptions urdf;
+  urdf.base = BaseType::Fixed;
+  const Model model = loadUrdf(test::sourcePath("tests/data/slider_box.urdf"), urdf);
+  CoulombParameters params;
+  params.K = 32;  // a near-circular cone, so a wrong direction shows as a gap, not as a snap to one vertex
+  const CoulombModel contact_model(params);
+  const PlaneTerrain terrain;
+  ContactPoint contact;
+  contact.name = "centre";
+  contact.link = model.linkIndex("box");
+  contact.offset = Vec3::Zero();
+  contact.radius = 0.0;
+  System system;
+  system.model = &model;
+  system.contacts = {contact};
+  system.contact_model = &contact_model;
+  system.terrain = &terrain;
+  system.gains = defaultPdGains(model);
+  system.gains.kp.setZero();
+  system.gains.kd.setZero();
+  system.gains.kp[0] = 2000.0;
+  system.gains.kd[0] = 20.0;
+  const double h = 0.05, mass = model.total_mass;
+  IntegratorOptions options;
+  setMethod(options, method);
+  options.kinetic_energy = measure;
+  const CoulombParameters& p = contact_model.parameters();
+  Eigen::VectorXd q0 = Eigen::VectorXd::Zero(3), qd0 = Eigen::VectorXd::Zero(3);
+  q0[2] = -std::pow(mass * kG / p.k - p.zeta, 1.0 / p.p);  // the depth that carries the weight
+  qd0[0] = qd0[1] = std::sqrt(0.5);
+  StepWorkspace ws(system, options);
+  SimulationState state = initialState(system, options, q0, qd0, h);
+  ConstantPdTarget target(Eigen::VectorXd::Zero(3));
+  DissipationCheck r;
+  const StepStats s = advance(system, options, target, state, h, ws);
+  if (!s.converged) {
+    r.failure = toString(s.status);
+    return r;
+  }
+  // The vertices at the end of the step, where the solver's last sub-step evaluated them.
+  Data data(model);
+  forwardKinematics(model, data, state.q);
+  std::vector<ContactFrame> frames(1);
+  contactFrame(model, data, contact, frames[0]);
+  std::vector<ContactWrenches> wrenches;
+  contact_model.evaluate(frames, terrain, wrenches, false);
+  const Mat6X& V = wrenches[0].V;
+  const Eigen::VectorXd& w = state.w;
+  const Vec3 u = state.qd.head<3>();
+  const Vec6 f = V * w;
+  double least = std::numeric_limits<double>::infinity();
+  for (int i = 0; i < V.cols(); ++i) least = std::min(least, V.col(i).tail<3>().dot(u));
+  r.speed = u.head<2>().norm();
+  r.normal = f[5];
+  r.gap = (f.tail<3>().dot(u) - least * w.sum()) / (p.mu * r.normal * r.speed);
+  return r;
+}
+
+TEST(SlidingUnderPd, FullBodyPdKineticEnergyGivesTheLargestDissipationAtLargeSteps) {
+  for (const char* method : {"ne-pgm", "pbd-pgm", "ne-zopgm", "pbd-zopgm"}) {
+    SCOPED_TRACE(method);
+    const DissipationCheck pd = slideUnderPd(method, KineticEnergyMeasure::FullBodyPd);
+    const DissipationCheck full = slideUnderPd(method, KineticEnergyMeasure::FullBody);
+    ASSERT_TRUE(pd.failure.empty()) << pd.failure;
+    ASSERT_TRUE(full.failure.empty()) << full.failure;
+    std::printf("slide under PD %-9s dt 50 ms: dissipation gap full-body-pd %.2e, full-body %.2e (|u| %.3f / %.3f m/s, "
+                "N %.2f N)\n",
+                method, pd.gap, full.gap, pd.speed, full.speed, pd.normal);
+    EXPECT_GT(pd.speed, 0.1);  // still sliding: the law is about the direction of the friction
+    EXPECT_NEAR(pd.normal, kG, 0.05 * kG);
+    EXPECT_LT(std::abs(pd.gap), 1e-3);  // (0 when the solution is the right vertex of the 32)
+    EXPECT_GT(full.gap, 1e-2);  // the plain full-body K is another law here (a wrong vertex)
+  }
 }
 
 }  // namespace

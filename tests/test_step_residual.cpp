@@ -480,6 +480,48 @@ TEST_P(StepResidualTest, ContactPointKineticEnergy) {
   }
 }
 
+// Full-body-pd kinetic energy (KineticEnergyMeasure::FullBodyPd): the full-body K plus
+// ½ Σ_j (k_p,j + k_d,j/h)(θ_j − q_n,j)², so that its Hessian is the part of ∂G/∂θ the implicit PD
+// adds. Checked in both forms: the added value, gradient and Hessian against the full-body K's, and
+// ∇K against FD of K (exact in PBD, and in NE with its ∂T/∂q term).
+TEST_P(StepResidualTest, FullBodyPdKineticEnergy) {
+  Scene s(GetParam(), 0.1);
+  std::mt19937 rng(22);
+  const int n = s.model.nq;
+  const Vec theta = s.penetratingState(rng);
+  const Vec q_n = theta - test::randomVector(rng, n, 0.01);
+  const Vec qd_n = test::randomVector(rng, n, 0.5);
+  const Vec w = randomWeights(rng, static_cast<int>(s.system.contacts.size()), s.contact_model.vertexCount());
+  const PdTarget target{theta + test::randomVector(rng, n, 0.1), test::randomVector(rng, n, 0.5)};
+  const double h = 0.02, eps = 1e-6;
+  Vec stiffness(n);
+  for (int j = 0; j < n; ++j) stiffness[j] = s.system.gains.kp[j] + s.system.gains.kd[j] / h;
+  ASSERT_GT(stiffness.maxCoeff(), 0.0) << "the robot needs PD gains for this test to mean anything";
+  for (Form form : {Form::NewtonEuler, Form::PositionBased}) {
+    StepResidual pd(s.system), full(s.system), fd(s.system);
+    pd.prepare(s.system, form, h, q_n, qd_n, q_n - h * qd_n, h, target, s.chart, KineticEnergyMeasure::FullBodyPd);
+    full.prepare(s.system, form, h, q_n, qd_n, q_n - h * qd_n, h, target, s.chart, KineticEnergyMeasure::FullBody);
+    fd.prepare(s.system, form, h, q_n, qd_n, q_n - h * qd_n, h, target, s.chart, KineticEnergyMeasure::FullBodyPd);
+    pd.evaluate(s.system, theta, w, ContactDerivative::Model);
+    full.evaluate(s.system, theta, w, ContactDerivative::Model);
+    const Vec d = theta - q_n;
+    const double added = 0.5 * d.dot(stiffness.cwiseProduct(d));
+    EXPECT_GT(added, 1e-3 * full.K);
+    EXPECT_NEAR(pd.K, full.K + added, 1e-12 * pd.K);
+    EXPECT_LT(relativeError(pd.grad_K, Vec(full.grad_K + stiffness.cwiseProduct(d))), 1e-12);
+    EXPECT_LT(relativeError(pd.hess_K, Mat(full.hess_K + Mat(stiffness.asDiagonal()))), 1e-12);
+    EXPECT_EQ(pd.G, full.G);  // the measure changes K only
+    const Vec gradK_fd = centralDifference([&](const Vec& th) {
+      fd.evaluate(s.system, th, w, ContactDerivative::Dropped);
+      return Vec::Constant(1, fd.K);
+    }, theta, eps).transpose();
+    const double e_grad = relativeError(pd.grad_K, gradK_fd);
+    std::printf("  %s full-body-pd K %.4e (PD share %.2e): ∇K vs FD %.2e\n", form == Form::NewtonEuler ? "NE " : "PBD",
+                pd.K, added, e_grad);
+    EXPECT_LT(e_grad, 1e-6);
+  }
+}
+
 INSTANTIATE_TEST_SUITE_P(Robots, StepResidualTest, ::testing::ValuesIn(cases()),
                          [](const auto& info) { return info.param.name; });
 

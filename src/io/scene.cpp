@@ -371,7 +371,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   o.method = *m;
   const std::string ke = readStr(in, "kinetic_energy", kineticEnergyName(o.kinetic_energy), w);
   const std::optional<KineticEnergyMeasure> k = parseKineticEnergy(ke);
-  if (!k) (w / "kinetic_energy").fail("unknown value '" + ke + "'; valid: full-body, contact-points");
+  if (!k) (w / "kinetic_energy").fail("unknown value '" + ke + "'; valid: full-body, contact-points, full-body-pd");
   o.kinetic_energy = *k;
   c.dt = number(in, "dt", c.dt, w, above(0), atMost(1));
   o.adaptive = boolean(in, "adaptive", o.adaptive, w);

@@ -29,7 +29,7 @@
 //   "terrain": object for makeTerrain  ({"type": "plane"}; "file" resolved, must exist)
 //   "integrator": {"method": ne-pgm | ne-zopgm | pbd-pgm | pbd-zopgm | ne-mdp (ne-pgm),
 //                  "dt": (0, 1] (0.05), "adaptive" (true), "min_substep": (0, dt] (1e-5),
-//                  "kinetic_energy": "full-body" | "contact-points", and the IntegratorOptions
+//                  "kinetic_energy": "full-body" | "contact-points" | "full-body-pd", and the IntegratorOptions
 //                  fields of the same names: epsilon, tol_w, eta, eta_reject, eta_limited, beta_min,
 //                  beta_max, beta_initial, adapt_start_penalty, max_outer_iterations, projection_tolerance,
 //                  projection_max_iterations, projection_backtracking, warm_start_weights,

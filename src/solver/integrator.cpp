@@ -128,12 +128,18 @@ const std::vector<std::string>& methodNames() {
 }
 
 const char* kineticEnergyName(KineticEnergyMeasure k) {
-  return k == KineticEnergyMeasure::FullBody ? "full-body" : "contact-points";
+  switch (k) {
+    case KineticEnergyMeasure::FullBody: return "full-body";
+    case KineticEnergyMeasure::ContactPoints: return "contact-points";
+    case KineticEnergyMeasure::FullBodyPd: return "full-body-pd";
+  }
+  return "?";
 }
 
 std::optional<KineticEnergyMeasure> parseKineticEnergy(const std::string& name) {
   if (name == "full-body") return KineticEnergyMeasure::FullBody;
   if (name == "contact-points") return KineticEnergyMeasure::ContactPoints;
+  if (name == "full-body-pd") return KineticEnergyMeasure::FullBodyPd;
   return std::nullopt;
 }
 

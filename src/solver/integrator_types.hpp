@@ -26,10 +26,15 @@ inline bool isZeroOrder(Method m) { return m == Method::NeZopgm || m == Method::
 inline bool needsContactDerivative(Method m) { return m == Method::NePgm || m == Method::PbdPgm; }
 
 // The kinetic energy K that maximal dissipation minimizes (DESIGN.md 2): of the whole robot (the
-// paper's statement), or of unit point masses at the contact points (what the original authors used
-// by default: friction then stops the feet sliding rather than the whole body moving).
-enum class KineticEnergyMeasure { FullBody, ContactPoints };
-const char* kineticEnergyName(KineticEnergyMeasure k);  // "full-body", "contact-points"
+// paper's statement), of unit point masses at the contact points (what the original authors used
+// by default: friction then stops the feet sliding rather than the whole body moving), or of the
+// whole robot plus ½ Σ_j (h² k_p,j + h k_d,j) θ̇_j² (full-body-pd). The last makes ∇²K the step's
+// ∂G/∂θ = H/h² + K_p + K_d/h (Gauss–Newton), so that for linear dynamics minimizing K gives each
+// contact the force of largest dissipation at the step's end velocity, the rigid Coulomb law, at
+// any h; the full-body K does so only as h → 0 (the implicit PD is outside its metric), and the two
+// are the same without PD gains. docs/INTEGRATOR.md, "Which friction law K stands for".
+enum class KineticEnergyMeasure { FullBody, ContactPoints, FullBodyPd };
+const char* kineticEnergyName(KineticEnergyMeasure k);  // "full-body", "contact-points", "full-body-pd"
 std::optional<KineticEnergyMeasure> parseKineticEnergy(const std::string& name);
 
 // How the zeroth-order methods account for the change of the vertices with the pose, the term

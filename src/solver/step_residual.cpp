@@ -109,11 +109,15 @@ void StepResidual::addDerivatives(const System& system, const Eigen::VectorXd& t
   const Model& model = *system.model;
   neInertialJacobian(model, data, h_, dG_dtheta);
   dG_dtheta.diagonal() += pd_hessian_;
-  if (kinetic_energy_ == KineticEnergyMeasure::FullBody) {
+  if (kinetic_energy_ != KineticEnergyMeasure::ContactPoints) {
     work_.noalias() = data.H * data.qd_work;
     grad_K = work_ / h_;
     addKineticEnergyConfigurationGradient(model);
     hess_K = data.H * (1.0 / (h_ * h_));
+    if (kinetic_energy_ == KineticEnergyMeasure::FullBodyPd) {
+      grad_K.array() += h_ * pd_hessian_.array() * data.qd_work.array();
+      hess_K.diagonal() += pd_hessian_;
+    }
   }
   if (m_ > 0) addContactDerivatives(system, w, derivative);
   if (kinetic_energy_ == KineticEnergyMeasure::ContactPoints) contactPointEnergy(model, true);
@@ -127,7 +131,7 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
     G -= work_;
     if (system.external_force.size() != 0) G -= system.external_force;
     // (The contact-point K is computed below, from the same RNEA velocities.)
-    if (kinetic_energy_ == KineticEnergyMeasure::FullBody) K = bodyKineticEnergy(model);
+    if (kinetic_energy_ != KineticEnergyMeasure::ContactPoints) K = bodyKineticEnergy(model) + pdDampingEnergy(theta);
   } else {
     positionBasedTerms(system, theta, false);
   }
@@ -155,6 +159,11 @@ void StepResidual::positionBasedTerms(const System& system, const Eigen::VectorX
   if (derivatives) dG_dtheta.diagonal() += pd_hessian_;
   K = derivatives ? transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K)
                   : transformEnergy(model, data, transforms_n_, h_, nullptr, nullptr);
+  K += pdDampingEnergy(theta);
+  if (derivatives && kinetic_energy_ == KineticEnergyMeasure::FullBodyPd) {
+    grad_K.array() += pd_hessian_.array() * (theta - q_n_).array();
+    hess_K.diagonal() += pd_hessian_;
+  }
   for (int j = 0; j < n_; ++j) {
     const double a = model.bodies[j].armature;
     if (a == 0.0) continue;
@@ -166,6 +175,16 @@ void StepResidual::positionBasedTerms(const System& system, const Eigen::VectorX
     grad_K[j] += a * kinetic * inv_h2;
     hess_K(j, j) += a * inv_h2;
   }
+}
+
+double StepResidual::pdDampingEnergy(const Eigen::VectorXd& theta) const {
+  if (kinetic_energy_ != KineticEnergyMeasure::FullBodyPd) return 0.0;
+  double E = 0.0;
+  for (int j = 0; j < n_; ++j) {
+    const double d = theta[j] - q_n_[j];
+    E += pd_hessian_[j] * d * d;
+  }
+  return 0.5 * E;
 }
 
 double StepResidual::bodyKineticEnergy(const Model& model) const {
