@@ -139,7 +139,7 @@ TEST(IntegratorConsistency, PgmAndZopgmReachTheSameStepOnRandomContactStates) {
 // (IntegratorOptions::eta_limited) change the path of the trust-region iteration, not where it
 // stops: the same kind of random states as above, from β_min (the inherited β after a converged
 // step), the default and a penalty that makes the first moves tiny, the last also with DESIGN.md's
-// single relaxation factor (η_limited = η). The solver stops once the decrease of K falls below
+// reference relaxation factor (η = η_limited = 1.5). The solver stops once the decrease of K falls below
 // what K resolves, r = 64 eps |K| + ‖∇K‖₁ · (the θ accuracy of the projection), which dominates ε
 // here; both solutions then lie within r of K's minimum, so their K agree within r and, K's
 // first-order term being non-negative at a constrained minimum, ½ΔθᵀΔ∇²K Δθ ≤ (√r + √r)² = 4r. (In
@@ -160,7 +160,7 @@ TEST(IntegratorConsistency, StepSolutionDoesNotDependOnThePenaltySchedule) {
   auto solve = [h](const System& system, const char* method, const Vec& q, const Vec& qd, double beta,
                    bool design_relaxation) {
     IntegratorOptions options = optionsFor(method);
-    if (design_relaxation) options.eta_limited = options.eta;
+    if (design_relaxation) options.eta = options.eta_limited = 1.5;  // DESIGN.md's reference η
     options.epsilon = 1e-10;
     options.tol_w = 1e-10;
     StepSolver solver(system);

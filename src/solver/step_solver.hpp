@@ -94,6 +94,8 @@ class StepSolver {
   // than kModelAgreed of the QP's prediction and that prediction was at least kSamePace of the
   // previous move's.
   static constexpr double kModelAgreed = 0.75, kSamePace = 0.3;
+  // DESIGN.md's reference η, the most β relaxes by with the dropped zeroth-order term.
+  static constexpr double kDesignRelaxation = 1.5;
   AndersonAcceleration anderson_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
   Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
