@@ -432,14 +432,25 @@ TEST_P(StepResidualTest, PositionBasedApproachesNewtonEuler) {
 // masses at the sphere centres. PBD: u_c = (p_c(θ) − p_c(q_n))/h, so ∇K = Σ J_cᵀu_c/h is exact
 // and NE: u_c = J_c(θ) θ̇ (which moves with θ through J_c too): ∇K is exact in both forms (checked
 // against FD of K), and ∇²K = Σ J_cᵀJ_c/h² is Gauss–Newton (checked against that sum).
+// A penetrating θ, a q_n a centimetre away, a random q̇_n and random feasible weights: the inputs
+// of the kinetic-energy tests.
+struct EnergyInputs {
+  Vec theta, q_n, qd_n, w;
+  EnergyInputs(Scene& s, std::mt19937& rng) {
+    const int n = s.model.nq;
+    theta = s.penetratingState(rng);
+    q_n = theta - test::randomVector(rng, n, 0.01);
+    qd_n = test::randomVector(rng, n, 0.5);
+    w = randomWeights(rng, static_cast<int>(s.system.contacts.size()), s.contact_model.vertexCount());
+  }
+};
+
 TEST_P(StepResidualTest, ContactPointKineticEnergy) {
   Scene s(GetParam(), 0.1);
   std::mt19937 rng(21);
   const int n = s.model.nq;
-  const Vec theta = s.penetratingState(rng);
-  const Vec q_n = theta - test::randomVector(rng, n, 0.01);
-  const Vec qd_n = test::randomVector(rng, n, 0.5);
-  const Vec w = randomWeights(rng, static_cast<int>(s.system.contacts.size()), s.contact_model.vertexCount());
+  const EnergyInputs in(s, rng);
+  const Vec &theta = in.theta, &q_n = in.q_n, &qd_n = in.qd_n, &w = in.w;
   const PdTarget target{theta, Vec::Zero(n)};
   const double h = 0.02, eps = 1e-6;
   for (Form form : {Form::NewtonEuler, Form::PositionBased}) {
@@ -488,10 +499,8 @@ TEST_P(StepResidualTest, FullBodyPdKineticEnergy) {
   Scene s(GetParam(), 0.1);
   std::mt19937 rng(22);
   const int n = s.model.nq;
-  const Vec theta = s.penetratingState(rng);
-  const Vec q_n = theta - test::randomVector(rng, n, 0.01);
-  const Vec qd_n = test::randomVector(rng, n, 0.5);
-  const Vec w = randomWeights(rng, static_cast<int>(s.system.contacts.size()), s.contact_model.vertexCount());
+  const EnergyInputs in(s, rng);
+  const Vec &theta = in.theta, &q_n = in.q_n, &qd_n = in.qd_n, &w = in.w;
   const PdTarget target{theta + test::randomVector(rng, n, 0.1), test::randomVector(rng, n, 0.5)};
   const double h = 0.02, eps = 1e-6;
   Vec stiffness(n);
