@@ -131,7 +131,7 @@ void StepResidual::evaluateValue(const System& system, const Eigen::VectorXd& th
     G -= work_;
     if (system.external_force.size() != 0) G -= system.external_force;
     // (The contact-point K is computed below, from the same RNEA velocities.)
-    if (kinetic_energy_ != KineticEnergyMeasure::ContactPoints) K = bodyKineticEnergy(model) + pdDampingEnergy(theta);
+    if (kinetic_energy_ != KineticEnergyMeasure::ContactPoints) K = bodyKineticEnergy(model) + pdMetricEnergy(theta);
   } else {
     positionBasedTerms(system, theta, false);
   }
@@ -159,7 +159,7 @@ void StepResidual::positionBasedTerms(const System& system, const Eigen::VectorX
   if (derivatives) dG_dtheta.diagonal() += pd_hessian_;
   K = derivatives ? transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K)
                   : transformEnergy(model, data, transforms_n_, h_, nullptr, nullptr);
-  K += pdDampingEnergy(theta);
+  K += pdMetricEnergy(theta);
   if (derivatives && kinetic_energy_ == KineticEnergyMeasure::FullBodyPd) {
     grad_K.array() += pd_hessian_.array() * (theta - q_n_).array();
     hess_K.diagonal() += pd_hessian_;
@@ -177,7 +177,7 @@ void StepResidual::positionBasedTerms(const System& system, const Eigen::VectorX
   }
 }
 
-double StepResidual::pdDampingEnergy(const Eigen::VectorXd& theta) const {
+double StepResidual::pdMetricEnergy(const Eigen::VectorXd& theta) const {
   if (kinetic_energy_ != KineticEnergyMeasure::FullBodyPd) return 0.0;
   double E = 0.0;
   for (int j = 0; j < n_; ++j) {

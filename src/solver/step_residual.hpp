@@ -86,7 +86,7 @@ class StepResidual {
   // NE: K = ½ Σ_k v_kᵀ I_k v_k + ½ Σ_j a_j θ̇_j² from RNEA's world velocities (= ½ θ̇ᵀ H θ̇).
   double bodyKineticEnergy(const Model& model) const;
   // Full-body-pd: ½ Σ_j (k_p,j + k_d,j/h)(θ_j − q_n,j)², the implicit PD's share of ∂G/∂θ as a metric.
-  double pdDampingEnergy(const Eigen::VectorXd& theta) const;
+  double pdMetricEnergy(const Eigen::VectorXd& theta) const;
   void contactPointEnergy(const Model& model, bool derivatives);
   std::vector<int> contact_bodies_;  // body of each contact (−1: welded to the world)
   std::vector<std::vector<int>> contact_chains_;  // per contact: its body and the body's ancestors

@@ -203,7 +203,8 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
   // the dropped term, whose model misses the contact stiffness.
   const double least_decrease = derivative == ContactDerivative::Dropped ? 0.0 : energy_tolerance;
   // The dropped term's model overstates how far θ follows w, so its penalty relaxes at DESIGN.md's
-  // η: at η = 5 a block held at 0.9 μmg crept 2.6e-4 m in 1 s (4.8e-5 m at 1.5).
+  // η (η_limited still applies after a penalty-limited move, whose model agreed): at η = 5 a block
+  // held at 0.9 μmg crept 2.6e-4 m in 1 s (4.8e-5 m at 1.5).
   const double eta = derivative == ContactDerivative::Dropped ? std::min(options.eta, kDesignRelaxation) : options.eta;
   bool theta_loose = false;     // θ is projected only as far as its trust-region test needed
   bool evaluated_here = true;  // the residual holds G and K at (θ, w)

@@ -94,7 +94,7 @@ class StepSolver {
   // than kModelAgreed of the QP's prediction and that prediction was at least kSamePace of the
   // previous move's.
   static constexpr double kModelAgreed = 0.75, kSamePace = 0.3;
-  // DESIGN.md's reference η, the most β relaxes by with the dropped zeroth-order term.
+  // DESIGN.md's reference η, the most β relaxes by with the dropped zeroth-order term (but for η_limited).
   static constexpr double kDesignRelaxation = 1.5;
   AndersonAcceleration anderson_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
