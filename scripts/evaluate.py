@@ -904,8 +904,11 @@ def verdict_distance(A, walks, rows):
       "distance varies with dt but no longer falls (the 1 ms run is itself a first-order method's answer: 4.92 m at "
       "0.5 ms, 4.82 m at 1 ms, 4.59 m at 4 ms); on the quadruped the trot still falls with dt, and its light legs "
       "swing less at 50 ms even with the robot held off the ground (thigh and knee range 0.393 and 0.395 rad, "
-      "against 0.40–0.44 and 0.43–0.46 rad for the 5 ms run read on the same 50 ms grid), so part of that loss is "
-      "the legs' own discretization, not the contact law's. The paper's walking trajectory, gains "
+      "against 0.40–0.44 and 0.43–0.46 rad for the 5 ms run read on the same 50 ms grid), and on the ground its "
+      "loaded feet slip backward at the friction limit, more the larger the step (quadruped_walk_rigid, ne-pgm, "
+      "5 / 25 / 50 ms: 0.027 / 0.186 / 0.282 m/s of slip against 0.216 / 0.159 / 0.100 m/s of trunk advance; "
+      "|F_t|/F_z 0.63–0.68 while slipping; docs/INTEGRATOR.md): the legs push harder than friction holds, the "
+      "contact law itself is kept. The paper's walking trajectory, gains "
       "and contact stiffness are not published in enough detail to tell what made its lines coincide. The analysis "
       "of the trend under the contact-point K (stance-foot slip, stride under load, the stance feet's opposing forces, "
       "gains, friction, gait pace) is in docs/INTEGRATOR.md, 'The RoboSimian walk's distance against dt'.")
