@@ -6,7 +6,7 @@ Usage:
     scripts/evaluate.py [--quick] [--jobs N] [--out-dir DIR] [--nmdp BINARY] [--reuse]
                         [--no-dropped] [--report-only] [--timeout S]
 
-    scripts/evaluate.py            # the full sweep, 504 runs: 5–10 min on 2 cores (4.8 min on 2026-11-22), then the page
+    scripts/evaluate.py            # the full sweep, 504 runs: 5–10 min on 2 cores (4.6–6.0 min on 2026-11-22), then the page
     scripts/evaluate.py --quick    # dt = 10 and 50 ms only, 2 s walks and 4 s jumps: 2.2 min, page in build/evaluation-quick/
 
 Needs Debian's python3 (h5py, numpy, matplotlib), hence /usr/bin/python3, and a built `nmdp`
