@@ -386,12 +386,16 @@ void expectFeetKey(const nlohmann::json& out, const std::vector<std::string>& li
   for (size_t i = 0; i < links.size(); ++i) {
     const auto& f = feet[i];
     ASSERT_TRUE(f.is_object());
-    EXPECT_EQ(f.size(), 3u) << f.dump();  // exactly {link, offset, radius}
+    EXPECT_EQ(f.size(), 4u) << f.dump();  // exactly {link, offset, radius, leg_axis}
     EXPECT_EQ(f.at("link").get<std::string>(), links[i]);
     ASSERT_TRUE(f.at("offset").is_array());
     ASSERT_EQ(f.at("offset").size(), 3u);
     for (const auto& x : f.at("offset")) EXPECT_TRUE(x.is_number());
     EXPECT_NEAR(f.at("radius").get<double>(), radius, tol);
+    ASSERT_EQ(f.at("leg_axis").size(), 3u);
+    EXPECT_NEAR(std::hypot(f.at("leg_axis")[0].get<double>(), f.at("leg_axis")[1].get<double>(),
+                           f.at("leg_axis")[2].get<double>()),
+                1.0, 1e-12);
   }
 }
 
@@ -399,7 +403,10 @@ TEST(InspectFeet, QuadrupedJsonHasTheFeetKey) {
   const nlohmann::json out = runInspect("'" + quadrupedUrdf() + "'");
   for (const char* key : {"dof", "joint_names", "total_mass", "links", "feet"}) EXPECT_TRUE(out.contains(key)) << key;
   expectFeetKey(out, {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}, 0.02, 0.0);
-  for (const auto& f : out["feet"]) EXPECT_EQ(f["offset"], nlohmann::json::array({0.0, 0.0, 0.0}));
+  for (const auto& f : out["feet"]) {
+    EXPECT_EQ(f["offset"], nlohmann::json::array({0.0, 0.0, 0.0}));
+    EXPECT_NEAR(f["leg_axis"][2].get<double>(), 1.0, 1e-12);  // toward the knee, the foot link's +z
+  }
   expectFeetKey(runInspect("'" + quadrupedUrdf() + "' --base fixed"), {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}, 0.02, 0.0);
 }
 
@@ -414,7 +421,10 @@ TEST(InspectFeet, RealRobotsJsonHasTheirFeet) {
   const nlohmann::json out = runInspect(paper);
   EXPECT_EQ(out["dof"], 15);
   expectFeetKey(out, {"limb1_link7", "limb2_link7", "limb3_link7", "limb4_link7"}, 0.05, 0.0);
-  for (const auto& f : out["feet"]) EXPECT_NEAR(f["offset"][0].get<double>(), 0.10, 1e-4);
+  for (const auto& f : out["feet"]) {
+    EXPECT_NEAR(f["offset"][0].get<double>(), 0.10, 1e-4);
+    EXPECT_NEAR(f["leg_axis"][0].get<double>(), -1.0, 1e-8);  // back along the foot to its roll joint
+  }
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "io/scene.hpp"
 #include "multibody/data.hpp"
 #include "multibody/kinematics.hpp"
+#include "multibody/urdf_loader.hpp"
 #include "test_support.hpp"
 #include "test_temp_dir.hpp"
 
@@ -332,6 +333,66 @@ TEST(Scene, AutoContactsAreTheFourFeet) {
   EXPECT_TRUE(two[0].offset.isApprox(Vec3(0, 0, -0.2)));
   EXPECT_EQ(two[0].radius, 0.01);
   EXPECT_EQ(two[1].radius, 0.0);
+}
+
+// The leg axis the planar granular models read their angle off points up the leg. The quadruped
+// stands with straight legs at q = 0: every leg axis is then the world's +z, whether the sphere
+// sits at a foot link's origin (auto: toward the knee), below the knee on the shank (toward its
+// origin) or at the shank's origin itself (toward the hip).
+TEST(Scene, LegAxesPointUpTheLeg) {
+  SceneFixture f;
+  json s = f.scene;
+  s["contacts"]["points"] = json::parse(R"([{"link": "FL_calf", "offset": [0, 0, -0.2], "radius": 0.01},
+                                            {"link": "FL_calf"},
+                                            {"link": "FL_calf", "leg_axis": [2, 0, 0]}])");
+  const SceneConfig listed = f.parse(s);
+  const Model model = f.model(listed);
+  Data data(model);
+  forwardKinematics(model, data, Eigen::VectorXd::Zero(model.nq));
+  const auto worldAxis = [&](const ContactPoint& p) {
+    Mat3 R;
+    Vec3 x;
+    linkPose(model, data, p.link, R, x);
+    return Vec3(R * p.leg_axis);
+  };
+  for (const ContactPoint& p : contactPointsFor(f.parse(), model))
+    EXPECT_LT((worldAxis(p) - Vec3::UnitZ()).norm(), 1e-9) << p.name << ": " << worldAxis(p).transpose();
+  const std::vector<ContactPoint> three = contactPointsFor(listed, model);
+  ASSERT_EQ(three.size(), 3u);
+  EXPECT_LT((worldAxis(three[0]) - Vec3::UnitZ()).norm(), 1e-9) << worldAxis(three[0]).transpose();
+  EXPECT_LT((worldAxis(three[1]) - Vec3::UnitZ()).norm(), 1e-9) << worldAxis(three[1]).transpose();
+  // Given: normalized, kept and echoed.
+  EXPECT_TRUE(three[2].leg_axis.isApprox(Vec3::UnitX()));
+  EXPECT_EQ(listed.resolved.at("contacts").at("points").at(2).at("leg_axis"), json::parse("[1.0, 0.0, 0.0]"));
+  EXPECT_FALSE(listed.resolved.at("contacts").at("points").at(0).contains("leg_axis"));
+  s["contacts"]["points"] = json::parse(R"([{"link": "FL_calf", "leg_axis": [0, 0, 0]}])");
+  EXPECT_TRUE(containsAll(inputErrorMessage([&] { f.parse(s); }), {"contacts.points.0.leg_axis", "non-zero"}));
+}
+
+// RoboSimian's foot sphere sits 0.1 m along the x axis of link7 (the foot's roll joint turns about
+// x): its leg axis is −x, and in the paper's standing pose every foot's angle feature is ~0, the
+// middle of the published sand model's range (−0.9..0.9). With the link's z axis, as before, it was
+// ±π/2, far outside it.
+TEST(Scene, RoboSimianLegAxisIsAlongTheFoot) {
+  NMDP_REQUIRE_SHARED("robots/robosimian");
+  const std::string path = sourcePath("models/scenes/robosimian_walk_planar.json");
+  std::ifstream in(path);
+  ASSERT_TRUE(in) << path;
+  const SceneConfig c = parseScene(json::parse(in), path);
+  const Model model = loadUrdf(c.urdf, urdfOptionsFor(c));
+  Data data(model);
+  forwardKinematics(model, data, initialConfiguration(c, model));
+  const std::vector<ContactPoint> feet = contactPointsFor(c, model);
+  ASSERT_EQ(feet.size(), 4u);
+  for (const ContactPoint& p : feet) {
+    // (The sphere found from the foot's mesh is centred 2.3 µm off the link's x axis: 2.3e-5 rad.)
+    EXPECT_LT((p.leg_axis + Vec3::UnitX()).norm(), 1e-4) << p.name << ": " << p.leg_axis.transpose();
+    ContactFrame frame;
+    contactFrame(model, data, p, frame);
+    const double beta = std::atan2(frame.leg_axis.x(), frame.leg_axis.z());
+    EXPECT_LT(std::abs(beta), 0.05) << p.name;
+    EXPECT_NEAR(frame.leg_axis.z(), 1.0, 1e-3) << p.name;  // up
+  }
 }
 
 TEST(Scene, GainsDefaultToDefaultPdGainsAndOverride) {

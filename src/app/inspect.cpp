@@ -5,6 +5,7 @@
 #include "io/input_error.hpp"
 #include "multibody/feet.hpp"
 #include "multibody/urdf_loader.hpp"
+#include "solver/contact_kinematics.hpp"
 
 namespace nmdp::app {
 
@@ -12,7 +13,9 @@ const char* const kInspectHelp =
     "usage: nmdp inspect ROBOT.urdf [--base floating|planar|fixed] [--lock JOINT=VALUE ...]\n"
     "                    [--armature JOINT=VALUE ...]\n\n"
     "Loads a URDF and prints a JSON summary: dof, joint_names (one per generalized coordinate,\n"
-    "base coordinates first), total_mass, links (name, mass) and feet (link, offset, radius).\n\n"
+    "base coordinates first), total_mass, links (name, mass) and feet (link, offset, radius and\n"
+    "leg_axis, the link-frame direction from the foot up the leg that the planar granular models\n"
+    "read their angle off).\n\n"
     "  --base TYPE         floating (default: x, y, z and three angles), planar (x, z, pitch) or fixed\n"
     "  --lock JOINT=VALUE  weld a movable joint at VALUE (rad or m); repeatable\n"
     "  --armature J=VALUE  rotor inertia added to joint J; J may be * for every actuated joint\n";
@@ -80,7 +83,9 @@ int runInspect(const Args& args) {
   out["links"] = links;
   nlohmann::ordered_json feet = nlohmann::json::array();
   for (const FootContact& f : detectFeet(model)) {
-    feet.push_back({{"link", f.link}, {"offset", {f.offset.x(), f.offset.y(), f.offset.z()}}, {"radius", f.radius}});
+    const Vec3 a = legAxisOf(model, model.linkIndex(f.link), f.offset, f.radius);
+    feet.push_back({{"link", f.link}, {"offset", {f.offset.x(), f.offset.y(), f.offset.z()}}, {"radius", f.radius},
+                    {"leg_axis", {a.x(), a.y(), a.z()}}});
     if (!f.warning.empty()) std::cerr << "warning: foot " << f.link << ": " << f.warning << "\n";
   }
   out["feet"] = feet;

@@ -206,7 +206,7 @@ const std::vector<std::string> kRobotKeys = {"urdf", "base", "locked_joints", "a
 const std::vector<std::string> kInitialKeys = {"height", "joints", "base_position", "base_rpy", "velocity"};
 const std::vector<std::string> kVelocityKeys = {"base_linear", "base_angular"};
 const std::vector<std::string> kContactsKeys = {"points", "model"};
-const std::vector<std::string> kPointKeys = {"link", "offset", "radius", "name"};
+const std::vector<std::string> kPointKeys = {"link", "offset", "radius", "name", "leg_axis"};
 const std::vector<std::string> kIntegratorKeys = {
     "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "eta_limited",
     "beta_min", "beta_max", "beta_initial", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance",
@@ -323,6 +323,11 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
         spec.link = readStr(p, "link", "", we);
         spec.offset = vec3(p, "offset", we);
         spec.radius = number(p, "radius", 0.0, we, atLeast(0));
+        if (p.contains("leg_axis")) {
+          const Vec3 a = vec3(p, "leg_axis", we);
+          if (!(a.norm() > 1e-9)) (we / "leg_axis").fail("must be a non-zero vector [x, y, z] in the link frame (from the foot up the leg)");
+          spec.leg_axis = a.normalized();
+        }
         const int n = uses[spec.link]++;
         spec.name = readStr(p, "name", n == 0 ? spec.link : spec.link + "#" + std::to_string(n + 1), we);
         c.contact_points.push_back(spec);
@@ -337,6 +342,8 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
     json list = json::array();
     for (const ContactPointSpec& p : c.contact_points)
       list.push_back({{"name", p.name}, {"link", p.link}, {"offset", toJson(p.offset)}, {"radius", p.radius}});
+    for (size_t i = 0; i < c.contact_points.size(); ++i)
+      if (c.contact_points[i].leg_axis) list[i]["leg_axis"] = toJson(*c.contact_points[i].leg_axis);
     out["points"] = list;
   }
 
@@ -967,6 +974,7 @@ std::vector<ContactPoint> contactPointsFor(const SceneConfig& c, const Model& mo
     p.link = linkIndexOrThrow(model, s.link, top / "contacts" / "points" / std::to_string(i) / "link");
     p.offset = s.offset;
     p.radius = s.radius;
+    p.leg_axis = s.leg_axis ? *s.leg_axis : legAxisOf(model, p.link, p.offset, p.radius);
     out.push_back(p);
   }
   return out;

@@ -88,6 +88,7 @@ struct ContactPointSpec {
   std::string link;
   Vec3 offset = Vec3::Zero();
   double radius = 0.0;
+  std::optional<Vec3> leg_axis;  // link frame; default: legAxisOf (solver/contact_kinematics.hpp)
 };
 
 // A gain given as one number for every actuated joint and/or per joint (per joint wins).

@@ -21,7 +21,16 @@ struct ContactPoint {
   Vec3 lateral = Vec3::UnitY();   // link frame; ignored on a planar base (the world y axis is used)
 };
 
-// One contact sphere per foot found by detectFeet (multibody/feet.hpp), named after its link.
+// The leg axis of a contact sphere (link frame, unit): from the sphere's centre toward the first
+// link origin up the tree (the link's own, then its parent's, ...) that lies outside the sphere, in
+// the model's zero configuration; UnitZ when there is none. A foot sphere at the end of a foot link
+// (RoboSimian's link7, whose x axis runs along the foot) gets −x; one at the origin of a foot link
+// fixed to the shank gets the direction to the knee. Planar granular models read their angle
+// feature off this axis, so it must point up the leg, whatever the link's own axes.
+Vec3 legAxisOf(const Model& model, int link, const Vec3& offset, double radius);
+
+// One contact sphere per foot found by detectFeet (multibody/feet.hpp), named after its link, with
+// its leg axis from legAxisOf.
 std::vector<ContactPoint> footContactPoints(const Model& model);
 
 // After forwardKinematics: the contact's world frame.
