@@ -18,7 +18,9 @@ namespace nmdp {
 
 namespace {
 
-constexpr double kFormatVersion = 3.0;          // the newest version this program reads and writes
+constexpr double kFormatVersion = 4.0;          // the newest version this program reads and writes
+constexpr double kFormatVersionSoftDepth = 4.0;   // written with output_envelope "soft_depth"
+constexpr double kFormatVersionAnchors = 3.0;     // written with zero anchors (and no soft_depth)
 constexpr double kFormatVersionEnvelope = 2.0;    // written with output_envelope "depth" (no anchors)
 constexpr double kFormatVersionNoEnvelope = 1.0;  // written when output_envelope is "none" (no anchors)
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
@@ -157,12 +159,14 @@ std::string mlpParameterProblem(const MlpParameters& p) {
     if (const std::string bad = firstNonFinite(*v); !bad.empty())
       return "dataset '" + std::string(name) + "' has a non-finite value (NaN or inf) at " + bad;
   }
+  if (p.output_envelope == MlpOutputEnvelope::SoftDepth && !(p.envelope_width > 0.0 && std::isfinite(p.envelope_width)))
+    return "attribute 'envelope_width' of '/mlp' must be a positive finite number (m) with output_envelope \"soft_depth\"";
   if (p.anchors.rows() > 0) {
     if (const std::string bad = firstNonFinite(p.anchors); !bad.empty())
       return "dataset '/mlp/anchors' has a non-finite value (NaN or inf) at " + bad;
     if (!(p.anchor_radius > 0.0) || !std::isfinite(p.anchor_radius))
       return "attribute 'anchor_radius' of '/mlp' must be a positive finite number";
-    if (p.output_envelope != MlpOutputEnvelope::None)
+    if (p.output_envelope == MlpOutputEnvelope::Depth)
       return "zero anchors ('/mlp/anchors') and output_envelope \"" + std::string(mlpOutputEnvelopeName(p.output_envelope)) +
              "\" cannot be combined";
     const Eigen::Array2d inv_std = p.input_std.cwiseInverse().array();
@@ -339,6 +343,8 @@ std::string MlpFunction::describe() const {
   for (size_t i = 0; i < sizes.size(); ++i) s << (i ? "-" : "") << sizes[i];
   s << " " << mlpActivationName(params_.activation);
   if (params_.output_envelope == MlpOutputEnvelope::Depth) s << ", W = (-phi) N depth envelope";
+  if (params_.output_envelope == MlpOutputEnvelope::SoftDepth)
+    s << ", W = w softplus(-phi/w) N soft depth envelope (w = " << params_.envelope_width << " m)";
   if (params_.anchors.rows() > 0) s << ", " << params_.anchors.rows() << " zero anchors";
   s << ", " << vertexCount() << " vertices, "
     << (jacobian_ == MlpJacobian::Tangents ? "hand-coded tangents" : std::string(mlpJacobianName(jacobian_)) + " autograd");
@@ -361,6 +367,16 @@ void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
     if (dW_dphi) *dW_dphi = (dW_dphi->array().colwise() * depth - W.array()).matrix();
     if (dW_dbeta) dW_dbeta->array().colwise() *= depth;
     W.array().colwise() *= depth;
+  } else if (params_.output_envelope == MlpOutputEnvelope::SoftDepth) {
+    // W = m(φ) ⊙ N: dW/dφ = m' N + m dN/dφ, dW/dβ = m dN/dβ (W still holds N, anchored, here: the
+    // anchors stay exact zeros).
+    for (Eigen::Index i = 0; i < features.rows(); ++i) {
+      double m, dm;
+      mlpEnvelopeFactor(params_.output_envelope, params_.envelope_width, features(i, 0), &m, &dm);
+      if (dW_dphi) dW_dphi->row(i) = dW_dphi->row(i) * m + W.row(i) * dm;
+      if (dW_dbeta) dW_dbeta->row(i) *= m;
+      W.row(i) *= m;
+    }
   }
 }
 
@@ -493,8 +509,13 @@ MlpModelFile loadMlpModel(const std::string& path) {
   if (file.hasAttribute("/mlp", "output_envelope")) {
     const std::string envelope = file.readStringAttribute("/mlp", "output_envelope");
     if (!parseMlpOutputEnvelope(envelope, &p.output_envelope))
-      fail("attribute 'output_envelope' of '/mlp' is '" + envelope + "'; valid values: \"none\" (W = N) or \"depth\" "
-           "(W = (-phi) N)");
+      fail("attribute 'output_envelope' of '/mlp' is '" + envelope + "'; valid values: \"none\" (W = N), \"depth\" "
+           "(W = (-phi) N) or \"soft_depth\" (W = w softplus(-phi/w) N)");
+    if (p.output_envelope == MlpOutputEnvelope::SoftDepth) {
+      if (!file.hasAttribute("/mlp", "envelope_width"))
+        fail("output_envelope \"soft_depth\" needs the attribute 'envelope_width' of '/mlp' (m)");
+      p.envelope_width = file.readDoubleAttribute("/mlp", "envelope_width");
+    }
   }
 
   const auto integer = [&](const std::string& name, double lo, double hi) {
@@ -594,7 +615,10 @@ void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry&
   const bool envelope = p.output_envelope != MlpOutputEnvelope::None;
   const bool anchored = p.anchors.rows() > 0;
   file.writeDoubleAttribute("/mlp", "format_version",
-                            anchored ? kFormatVersion : envelope ? kFormatVersionEnvelope : kFormatVersionNoEnvelope);
+                            p.output_envelope == MlpOutputEnvelope::SoftDepth ? kFormatVersionSoftDepth
+                            : anchored                                          ? kFormatVersionAnchors
+                            : envelope                                          ? kFormatVersionEnvelope
+                                                                                : kFormatVersionNoEnvelope);
   file.writeStringAttribute("/mlp", "activation", mlpActivationName(p.activation));
   file.writeDoubleAttribute("/mlp", "layers", static_cast<double>(p.layers.size()));
   file.writeDoubleAttribute("/mlp", "vertices", p.vertexCount());
@@ -604,6 +628,7 @@ void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry&
   file.writeDoubleAttribute("/mlp", "cutoff_width", geometry.cutoff_width);
   file.writeStringAttribute("/mlp", "units", kUnits);
   if (envelope) file.writeStringAttribute("/mlp", "output_envelope", mlpOutputEnvelopeName(p.output_envelope));
+  if (p.output_envelope == MlpOutputEnvelope::SoftDepth) file.writeDoubleAttribute("/mlp", "envelope_width", p.envelope_width);
   file.writeStrings("/mlp/feature_names", {"phi", "beta"});
   file.writeVector("/mlp/input_mean", p.input_mean);
   file.writeVector("/mlp/input_std", p.input_std);

@@ -11,6 +11,7 @@
 //     N = output_scale ⊙ y + output_offset                    (3K; vertex j = entries 3j, 3j+1, 3j+2)
 //     W = N                  with output_envelope "none" (the default)
 //     W = (−φ) ⊙ N           with output_envelope "depth"
+//     W = m(φ) ⊙ N           with output_envelope "soft_depth", m(φ) = w softplus(−φ/w) = w log(1 + e^(−φ/w))
 //
 // with a smooth activation σ (the solver needs C¹; ReLU is rejected):
 //   tanh       tanh(x)
@@ -29,6 +30,13 @@
 //     dW/dφ = −N + (−φ) ⊙ dN/dφ,   dW/dβ = (−φ) ⊙ dN/dβ,
 // applied in Eigen after the network pass (N and dN from any of the schemes below).
 //
+// The soft depth envelope (MlpOutputEnvelope::SoftDepth, width w = envelope_width in m) is −φ a few
+// w below the surface, w log 2 at it and fades as e^(−φ/w) above it: smooth everywhere and never zero,
+// so unlike "depth" it does not force W to vanish between the data's measured surface points. The
+// network then fits W/m, of about one size at all depths. dW/dφ = m' N + m dN/dφ, m' = −sigmoid(−φ/w);
+// dW/dβ = m dN/dβ. With zero anchors the factor multiplies the anchored network, W = m (N − Σ b_a N(ξ_a)),
+// still exactly zero at the anchors.
+//
 // Zero anchors (optional; `anchors` A × 2 points ξ_a, `anchor_radius` R > 0): the model is
 //     W(ξ) = N(ξ) − Σ_a b_a(ξ) N(ξ_a),   b_a(ξ) = ψ(‖x̂(ξ) − x̂(ξ_a)‖ / R),
 // x̂ the normalized input (2), ψ(r) = (1 − r)⁶ (35 r² + 18 r + 3) / 3 for r < 1 and 0 beyond (Wendland's
@@ -39,7 +47,7 @@
 // vanishing wrench nearby. W stays C⁴ (bumps of compact support, constant coefficients N(ξ_a),
 // computed once when the function is built), and since ψ'(0) = 0 the gradient at an anchor is the
 // network's. Derivatives: dW/df = dN/df − Σ_a (db_a/df) N(ξ_a), applied in Eigen after the network pass.
-// Anchors and the depth envelope are exclusive.
+// Anchors and the "depth" envelope are exclusive (its factor is zero at the surface already).
 //
 // Evaluation: all rows of a batch go through the network in one pass, one ATen call per affine
 // layer with the transposed weight A_iᵀ stored contiguous (which the reference BLAS multiplies ~1.5×
@@ -80,8 +88,9 @@
 // ----- File format (HDF5, readable by h5py; never TorchScript: loading executes nothing) ---------
 //   /                        attribute nmdp_model = "mlp"
 //   /mlp                     group; attributes:
-//       format_version       1 (float64), 2 when output_envelope is "depth", 3 with zero anchors (files
-//                            without either stay version 1, readable by older programs); 1 to 3 are read
+//       format_version       1 (float64), 2 when output_envelope is "depth", 3 with zero anchors, 4 with
+//                            output_envelope "soft_depth" (files without any stay version 1, readable by
+//                            older programs); 1 to 4 are read
 //       activation           string: "tanh", "softplus" or "silu"
 //       layers               float64, integer L + 1 ≥ 1: the number of affine layers
 //       vertices             float64, integer K ≥ 1: the output has 3K entries
@@ -90,8 +99,9 @@
 //       cutoff               float64, m: zero wrench for φ ≥ cutoff
 //       cutoff_width         float64 > 0, m: blending band below the cut-off
 //       units                string, informational ("phi: m, beta: rad; F_x, F_z: N; tau_y: N m")
-//       output_envelope      string, optional: "none" (W = N; the default when absent) or "depth"
-//                            (W = (−φ) ⊙ N, see above); written only when "depth"
+//       output_envelope      string, optional: "none" (W = N; the default when absent), "depth"
+//                            (W = (−φ) ⊙ N) or "soft_depth" (see above); written unless "none"
+//       envelope_width       float64 > 0, m: w of "soft_depth" (required with it)
 //   /mlp/feature_names       (2) strings "phi", "beta" (checked when present)
 //   /mlp/input_mean          (2) float64: mean of (φ, β)
 //   /mlp/input_std           (2) float64 > 0
@@ -106,6 +116,8 @@
 // or a newer format_version is an InputError naming the file and the dataset or attribute.
 #pragma once
 #include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -129,24 +141,48 @@ std::string mlpActivationProblem(const std::string& name);
 
 // What multiplies the network's output N (see the function above).
 enum class MlpOutputEnvelope {
-  None,   // W = N
-  Depth,  // W = (−φ) ⊙ N: zero at the surface
+  None,       // W = N
+  Depth,      // W = (−φ) ⊙ N: zero at the surface
+  SoftDepth,  // W = w softplus(−φ/w) ⊙ N: −φ below the surface, w log 2 at it, fading above it
 };
-// "none", "depth". Inline (no libtorch): training/fit_config.cpp, in the core library, parses them too.
+// "none", "depth", "soft_depth". Inline (no libtorch): training/fit_config.cpp, in the core library,
+// parses them too.
 inline const char* mlpOutputEnvelopeName(MlpOutputEnvelope envelope) {
-  return envelope == MlpOutputEnvelope::Depth ? "depth" : "none";
+  switch (envelope) {
+    case MlpOutputEnvelope::Depth: return "depth";
+    case MlpOutputEnvelope::SoftDepth: return "soft_depth";
+    default: return "none";
+  }
 }
-// false when `name` is neither "none" nor "depth".
+// false when `name` is none of "none", "depth", "soft_depth".
 inline bool parseMlpOutputEnvelope(const std::string& name, MlpOutputEnvelope* envelope) {
-  if (name == "none") {
-    *envelope = MlpOutputEnvelope::None;
-    return true;
-  }
-  if (name == "depth") {
-    *envelope = MlpOutputEnvelope::Depth;
-    return true;
-  }
+  for (MlpOutputEnvelope e : {MlpOutputEnvelope::None, MlpOutputEnvelope::Depth, MlpOutputEnvelope::SoftDepth})
+    if (name == mlpOutputEnvelopeName(e)) {
+      *envelope = e;
+      return true;
+    }
   return false;
+}
+// The envelope's factor m(φ) and dm/dφ (width w, m, for SoftDepth only). Inline: the trainer uses it
+// for its fixed per-row factors.
+inline void mlpEnvelopeFactor(MlpOutputEnvelope envelope, double width, double phi, double* m, double* dm_dphi) {
+  switch (envelope) {
+    case MlpOutputEnvelope::Depth:
+      *m = 0.0 - phi;  // +0 at the surface
+      *dm_dphi = -1.0;
+      return;
+    case MlpOutputEnvelope::SoftDepth: {
+      // w log(1 + e^z), z = −φ/w, in the form that neither overflows nor loses digits: for z > 0,
+      // z + log(1 + e^−z).
+      const double z = -phi / width, e = std::exp(-std::abs(z));
+      *m = width * (std::max(z, 0.0) + std::log1p(e));
+      *dm_dphi = -(z >= 0.0 ? 1.0 / (1.0 + e) : e / (1.0 + e));  // −sigmoid(z)
+      return;
+    }
+    default:
+      *m = 1.0;
+      *dm_dphi = 0.0;
+  }
 }
 
 // One affine layer in the torch layout: y = weight · x + bias.
@@ -163,7 +199,8 @@ struct MlpParameters {
   Eigen::VectorXd output_scale;                          // 3K
   Eigen::VectorXd output_offset;                         // 3K
   std::vector<MlpLayer> layers;                          // L hidden layers, then the output layer
-  MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // W = N, or W = (−φ) ⊙ N
+  MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // W = N, or W = m(φ) ⊙ N
+  double envelope_width = 0.0;  // w of the SoftDepth envelope (m, > 0); unused by the others
   Eigen::MatrixX2d anchors = Eigen::MatrixX2d(0, 2);  // zero anchors (φ, β); none by default
   double anchor_radius = 0.0;                           // R of the anchors' bumps (normalized input units)
 

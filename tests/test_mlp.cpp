@@ -463,6 +463,140 @@ TEST(MlpAnchors, BadAnchorsAreRejected) {
   EXPECT_THROW(MlpFunction{p}, std::invalid_argument);
 }
 
+// ----- the soft depth envelope W = w softplus(−φ/w) ⊙ N, with zero anchors ----------------------------
+
+// The anchors' network, under the soft depth envelope of width 5 mm.
+MlpParameters softDepthParameters(MlpActivation activation = MlpActivation::Tanh) {
+  MlpParameters p = anchorParameters(activation);
+  p.output_envelope = MlpOutputEnvelope::SoftDepth;
+  p.envelope_width = 0.005;
+  return p;
+}
+
+// The anchors' rows, one deep and one far above the surface (where the factor underflows to tiny).
+Eigen::MatrixX2d softDepthFeatures() {
+  Eigen::MatrixX2d f(8, 2);
+  f.topRows(6) = anchorFeatures();
+  f.bottomRows(2) << -0.08, 0.4, 0.3, -0.1;
+  return f;
+}
+
+TEST(MlpSoftDepth, FactorIsTheSoftplusOfDepthAndItsDerivative) {
+  const double w = 0.005;
+  for (double phi : {-0.2, -0.07, -0.01, -1e-4, 0.0, 1e-4, 0.004, 0.05, 1.0}) {
+    double m, dm;
+    mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, w, phi, &m, &dm);
+    // The textbook form, which is exact enough in this range (no overflow: −φ/w ≤ 40).
+    EXPECT_NEAR(m, w * std::log(1.0 + std::exp(-phi / w)), 1e-15 + 1e-13 * m) << phi;
+    double mp, mm, unused;
+    const double h = 1e-7;
+    mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, w, phi + h, &mp, &unused);
+    mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, w, phi - h, &mm, &unused);
+    EXPECT_NEAR(dm, (mp - mm) / (2 * h), 1e-7) << phi;
+    EXPECT_GT(m, 0.0) << phi;
+  }
+  double m, dm;
+  mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, w, -0.1, &m, &dm);  // deep: the depth itself
+  EXPECT_NEAR(m, 0.1, 1e-10);
+  EXPECT_NEAR(dm, -1.0, 1e-8);
+  mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, w, 0.0, &m, &dm);  // at the surface: w log 2, slope −½
+  EXPECT_DOUBLE_EQ(m, w * std::log(2.0));
+  EXPECT_DOUBLE_EQ(dm, -0.5);
+  mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, w, 10.0, &m, &dm);  // far above: underflows, no NaN
+  EXPECT_EQ(m, 0.0);
+  EXPECT_EQ(dm, 0.0);
+  mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, w, -10.0, &m, &dm);  // far below: no overflow
+  EXPECT_DOUBLE_EQ(m, 10.0);
+  mlpEnvelopeFactor(MlpOutputEnvelope::Depth, w, -0.03, &m, &dm);
+  EXPECT_EQ(m, 0.03);
+  EXPECT_EQ(dm, -1.0);
+}
+
+// The fourth-order central difference: at an anchor W = m (N − b N_a) is zero while the bump's
+// curvature times m' is large, so the second-order one is off by ~1e-5 there at the usual step.
+Eigen::MatrixXd fivePointDifference(const MlpFunction& mlp, const Eigen::MatrixX2d& f, int d) {
+  const double eps = 1e-4 * mlp.parameters().input_std[d];
+  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(f.rows(), 3 * mlp.vertexCount());
+  for (const auto& [k, c] : {std::pair{2, -1.0}, {1, 8.0}, {-1, -8.0}, {-2, 1.0}}) {
+    Eigen::MatrixX2d g = f;
+    g.col(d).array() += k * eps;
+    Eigen::MatrixXd W;
+    mlp.evaluate(g, W, nullptr, nullptr);
+    sum += c * W;
+  }
+  return sum / (12 * eps);
+}
+
+class MlpSoftDepthDerivatives : public ::testing::TestWithParam<FunctionCase> {};
+
+TEST_P(MlpSoftDepthDerivatives, MatchCentralDifferences) {
+  const MlpFunction mlp(softDepthParameters(GetParam().activation), GetParam().jacobian);
+  const Eigen::MatrixX2d f = softDepthFeatures();
+  Eigen::MatrixXd W, dphi, dbeta;
+  mlp.evaluate(f, W, &dphi, &dbeta);
+  for (int d = 0; d < 2; ++d) {
+    const Eigen::MatrixXd fd = fivePointDifference(mlp, f, d);
+    for (Eigen::Index r = 0; r < f.rows(); ++r)
+      EXPECT_LT(relativeError((d == 0 ? dphi : dbeta).row(r), fd.row(r)), 1e-7) << "d " << d << ", row " << r;
+  }
+  expectOneDirectionAsBoth(mlp, f, W, dphi, dbeta);
+  EXPECT_GT(dphi.cwiseAbs().maxCoeff(), 1e-2);  // not trivially zero
+}
+
+INSTANTIATE_TEST_SUITE_P(ActivationsAndSchemes, MlpSoftDepthDerivatives,
+                         ::testing::Values(FunctionCase{MlpActivation::Tanh, MlpJacobian::ForwardMode},
+                                           FunctionCase{MlpActivation::Tanh, MlpJacobian::DoubleBackward},
+                                           FunctionCase{MlpActivation::Tanh, MlpJacobian::Tangents},
+                                           FunctionCase{MlpActivation::Softplus, MlpJacobian::ForwardMode}),
+                         functionCaseName);
+
+TEST(MlpSoftDepth, IsTheFactorTimesTheAnchoredNetworkAndZeroAtTheAnchors) {
+  const MlpParameters p = softDepthParameters();
+  const Eigen::MatrixX2d f = softDepthFeatures();
+  for (MlpJacobian jacobian : {MlpJacobian::ForwardMode, MlpJacobian::Tangents}) {
+    const MlpFunction anchored(anchorParameters(), jacobian), soft(p, jacobian);
+    Eigen::MatrixXd N, dN_phi, dN_beta, W, dW_phi, dW_beta;
+    anchored.evaluate(f, N, &dN_phi, &dN_beta);
+    soft.evaluate(f, W, &dW_phi, &dW_beta);
+    for (Eigen::Index r = 0; r < f.rows(); ++r) {
+      const double m = p.envelope_width * std::log1p(std::exp(-f(r, 0) / p.envelope_width));
+      const double dm = -1.0 / (1.0 + std::exp(f(r, 0) / p.envelope_width));
+      EXPECT_LT(relativeError(W.row(r), m * N.row(r)), 1e-13) << mlpJacobianName(jacobian) << " row " << r;
+      EXPECT_LT(relativeError(dW_beta.row(r), m * dN_beta.row(r)), 1e-13) << " row " << r;
+      EXPECT_LT(relativeError(dW_phi.row(r), m * dN_phi.row(r) + dm * N.row(r)), 1e-13) << " row " << r;
+    }
+    // Exactly zero at the anchors, above the surface or at it, whatever the factor.
+    soft.evaluate(p.anchors, W, nullptr, nullptr);
+    anchored.evaluate(p.anchors, N, nullptr, nullptr);
+    EXPECT_LT(W.cwiseAbs().maxCoeff(), 1e-12) << mlpJacobianName(jacobian);
+  }
+  // Far above the surface the factor has underflowed: zero wrench, finite derivatives.
+  Eigen::MatrixXd W, dphi, dbeta;
+  MlpFunction(p).evaluate((Eigen::MatrixX2d(1, 2) << 5.0, 0.1).finished(), W, &dphi, &dbeta);
+  EXPECT_EQ(W.cwiseAbs().maxCoeff(), 0.0);
+  EXPECT_TRUE(dphi.allFinite() && dbeta.allFinite());
+  EXPECT_EQ(MlpFunction(p).describe(),
+            "MLP 2-64-64-78 tanh, W = w softplus(-phi/w) N soft depth envelope (w = 0.005 m), 4 zero anchors, "
+            "26 vertices, forward-mode autograd");
+  MlpOutputEnvelope e = MlpOutputEnvelope::None;
+  EXPECT_TRUE(parseMlpOutputEnvelope("soft_depth", &e));
+  EXPECT_EQ(e, MlpOutputEnvelope::SoftDepth);
+  EXPECT_STREQ(mlpOutputEnvelopeName(MlpOutputEnvelope::SoftDepth), "soft_depth");
+}
+
+TEST(MlpSoftDepth, NeedsAPositiveWidth) {
+  for (double width : {0.0, -0.005, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    MlpParameters p = softDepthParameters();
+    p.envelope_width = width;
+    try {
+      MlpFunction{p};
+      ADD_FAILURE() << "no exception for width " << width;
+    } catch (const std::invalid_argument& e) {
+      EXPECT_NE(std::string(e.what()).find("envelope_width"), std::string::npos) << e.what();
+    }
+  }
+}
+
 // ----- the HDF5 file -------------------------------------------------------------------------------
 
 TEST(MlpFile, SaveLoadRoundTripIsBitIdentical) {
@@ -590,6 +724,48 @@ TEST(MlpFile, SaveLoadRoundTripWithZeroAnchors) {
       "anchor_radius");
 }
 
+TEST(MlpFile, SaveLoadRoundTripWithTheSoftDepthEnvelope) {
+  TempFile file("soft.h5");
+  const MlpFunction mlp(softDepthParameters(), MlpJacobian::Tangents);
+  saveMlpModel(file.path(), mlp, testGeometry());
+  {
+    const h5::File raw = h5::File::openRead(file.path());
+    EXPECT_EQ(raw.readDoubleAttribute("/mlp", "format_version"), 4.0);  // older programs refuse it
+    EXPECT_EQ(raw.readStringAttribute("/mlp", "output_envelope"), "soft_depth");
+    EXPECT_EQ(raw.readDoubleAttribute("/mlp", "envelope_width"), 0.005);
+  }
+  const MlpModelFile loaded = loadMlpModel(file.path());
+  EXPECT_EQ(loaded.parameters.output_envelope, MlpOutputEnvelope::SoftDepth);
+  EXPECT_EQ(loaded.parameters.envelope_width, 0.005);
+  const MlpFunction again(loaded.parameters, MlpJacobian::Tangents);
+  Eigen::MatrixXd W1, p1, b1, W2, p2, b2;
+  mlp.evaluate(softDepthFeatures(), W1, &p1, &b1);
+  again.evaluate(softDepthFeatures(), W2, &p2, &b2);
+  EXPECT_TRUE(identical(W1, W2));
+  EXPECT_TRUE(identical(p1, p2));
+  EXPECT_TRUE(identical(b1, b2));
+
+  // Broken by hand: the width missing, or not positive.
+  for (const double width : {std::nan(""), 0.0, -1.0}) {
+    TempFile bad("bad_soft.h5");
+    {
+      h5::File f = h5::File::createAtomic(bad.path());
+      MlpParameters p = testParameters();
+      writeMlpModel(f, p, testGeometry());
+      f.writeStringAttribute("/mlp", "output_envelope", "soft_depth");
+      if (!std::isnan(width)) f.writeDoubleAttribute("/mlp", "envelope_width", width);
+      f.commit();
+    }
+    try {
+      loadMlpModel(bad.path());
+      ADD_FAILURE() << "no InputError for width " << width;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("envelope_width"), std::string::npos) << e.what();
+      EXPECT_NE(std::string(e.what()).find(bad.path()), std::string::npos) << e.what();
+    }
+  }
+}
+
 // Writes the file format by hand, with what a test wants broken (saveMlpModel refuses bad input).
 struct RawFile {
   MlpParameters p = testParameters();
@@ -670,8 +846,8 @@ TEST(MlpFile, BadOutputEnvelope) {
 
 TEST(MlpFile, NewerFormatVersion) {
   RawFile raw;
-  raw.version = 4;
-  expectLoadError(raw, {"attribute 'format_version'", "versions 1 to 3"});
+  raw.version = 5;
+  expectLoadError(raw, {"attribute 'format_version'", "versions 1 to 4"});
 }
 
 TEST(MlpFile, MissingFile) {

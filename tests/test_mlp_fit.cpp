@@ -60,14 +60,12 @@ FitConfig quickConfig() {
 
 // ==== acceptance ================================================================================
 
-// NOT MET, so disabled rather than loosened: with sand_mlp_fit.json (zero anchors, teacher 15 × 37
-// packed towards the surface, Adam then L-BFGS) the MLP is 3.5 % from the published model at the
-// median, 7.1 % at the 90th percentile, 15.8 % at worst below 1 cm and 61 % within a millimetre of
-// the surface next to a measured angle, where the published wrench vanishes with a ρ² log ρ kink
-// (training/README.md, "Acceptance", has every run; before the anchors and L-BFGS: 6.2 %, 25.9 %,
-// 34.6 % and 278 %). It stays here with the bound unchanged; run it with
-// --gtest_also_run_disabled_tests to measure a new configuration.
-TEST(MlpFitAcceptance, DISABLED_SandSamplesWithinTenPercentOfThePublishedModel) {
+// With sand_mlp_fit.json (a 2-128-128-78 tanh network under the soft depth envelope, zero anchors, a
+// 20 × 73 thin-plate teacher packed towards the surface with extra columns beside the measured angles,
+// 300 Adam epochs then 8000 L-BFGS iterations; about 4.5 min of one core) the largest error on these
+// points was 4.8 % on the machine of 2026-11-22 (seeds 2 and 3: 3.0 % and 3.4 %); training/README.md,
+// "Acceptance", has the runs. Before the envelope and the refinement it was 61 % (disabled then).
+TEST(MlpFitAcceptance, SandSamplesWithinTenPercentOfThePublishedModel) {
   NMDP_REQUIRE_SHARED("granular/sand_samples");
   NMDP_REQUIRE_SHARED("granular/robosimian_sand_rbf");
   const ForceDataset data = importSandSamplesCsv(sharedPath("granular/sand_samples"));
@@ -515,6 +513,94 @@ TEST(MlpFit, TeacherDepthRowsPackTowardsTheSurface) {
   EXPECT_NE(packed.history, uniform.history);
 }
 
+TEST(MlpFit, TeacherRefinementAddsColumnsBesideTheDataAngles) {
+  FitConfig c = quickConfig();
+  c.mlp.max_epochs = 5;
+  c.mlp.validation_fraction = 0;
+  c.mlp.teacher_grid = {3, 4};  // columns −0.6, −0.2, 0.2, 0.6
+  const MlpFit plain = fitMlpToDataset(smallDataset(), c, "synthetic").record.fit;
+  EXPECT_EQ(plain.teacher_samples, 12);
+  c.mlp.teacher_refinement = {0.05};
+  const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
+  // The data's angles −0.6, −0.3, 0, 0.3, 0.6, each ± 0.05 inside [−0.6, 0.6]: 8 more columns.
+  EXPECT_EQ(out.record.fit.teacher_samples, 3 * 12);
+  EXPECT_NE(out.record.fit.history, plain.history);
+  EXPECT_EQ(out.record.settings["mlp"]["teacher_refinement"].dump(), "[0.05]");
+  // An offset that lands on an existing column to round-off adds nothing there (−0.6 + 0.4 and
+  // 0.6 − 0.4 are the columns ∓0.2): 0.1, ±0.4 and −0.1 only.
+  c.mlp.teacher_refinement = {0.4};
+  EXPECT_EQ(fitMlpToDataset(smallDataset(), c, "synthetic").record.fit.teacher_samples, 3 * (4 + 4));
+}
+
+TEST(MlpFit, SoftDepthEnvelopeWithZeroAnchors) {
+  FitConfig c = quickConfig();
+  c.mlp.zero_anchors = true;
+  c.mlp.output_envelope = MlpOutputEnvelope::SoftDepth;
+  c.mlp.envelope_width = 0.01;
+  c.mlp.lbfgs_iterations = 50;
+  const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
+  const MlpFit& fit = out.record.fit;
+  const PlanarPoints& pts = out.record.points;
+  const MlpParameters& p = fit.parameters;
+  ASSERT_EQ(p.output_envelope, MlpOutputEnvelope::SoftDepth);
+  EXPECT_EQ(p.envelope_width, 0.01);
+  ASSERT_GT(p.anchors.rows(), 2);
+  const double scale = pts.values.cwiseAbs().maxCoeff();
+  std::vector<int> zero;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i] && pts.values.row(i).cwiseAbs().maxCoeff() == 0.0) zero.push_back(i);
+  ASSERT_EQ(p.anchors.rows(), static_cast<Eigen::Index>(zero.size()));
+  for (int i : zero) EXPECT_LT(fit.error.row(i).cwiseAbs().maxCoeff(), 1e-12 * scale) << "point " << i;
+  // It learns: the error at the training points is a few per cent of the largest wrench.
+  double worst = 0.0;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i]) worst = std::max(worst, fit.error.row(i).cwiseAbs().maxCoeff());
+  EXPECT_LT(worst, 0.1 * scale);
+  // The recorded training loss is the documented one: relative to the point's largest wrench, with
+  // the floor scaled by m(min(φ, 0)) / m(φ of the largest wrench); at the anchors m N(ξ_a) relative
+  // to the largest wrench.
+  const auto m = [&](double phi) {
+    double v, dm;
+    mlpEnvelopeFactor(MlpOutputEnvelope::SoftDepth, 0.01, phi, &v, &dm);
+    return v;
+  };
+  double largest = 0.0, m_largest = 1.0;
+  for (int i = 0; i < pts.pointCount(); ++i)
+    if (!fit.validation[i] && pts.values.row(i).cwiseAbs().maxCoeff() > largest) {
+      largest = pts.values.row(i).cwiseAbs().maxCoeff();
+      m_largest = m(pts.features(i, 0));
+    }
+  MlpParameters bare = p;  // the network under its envelope, without the anchors
+  bare.anchors.resize(0, 2);
+  Eigen::MatrixXd mN;
+  MlpFunction(bare).evaluate(p.anchors, mN, nullptr, nullptr);
+  double sum = 0.0;
+  int count = 0;
+  for (int i = 0; i < pts.pointCount(); ++i) {
+    if (fit.validation[i]) continue;
+    const auto at = std::find(zero.begin(), zero.end(), i);
+    const double floor = c.mlp.relative_floor * largest * m(std::min(pts.features(i, 0), 0.0)) / m_largest;
+    const Eigen::RowVectorXd e = at != zero.end() ? Eigen::RowVectorXd(mN.row(at - zero.begin()))
+                                                  : Eigen::RowVectorXd(fit.error.row(i));
+    const double s = at != zero.end() ? std::max(c.mlp.relative_floor * largest, largest)
+                                      : std::max(pts.values.row(i).cwiseAbs().maxCoeff(), floor);
+    sum += (e / s).squaredNorm();
+    count += static_cast<int>(e.size());
+  }
+  EXPECT_NEAR(sum / count, fit.train_loss, 1e-9 * fit.train_loss);
+  // The file keeps the envelope; the settings record it; the same seed gives the same bits.
+  TempDir dir;
+  const std::string a = dir.file("a.h5"), b = dir.file("b.h5");
+  saveMlpFit(a, out.record, out.geometry);
+  saveMlpFit(b, fitMlpToDataset(smallDataset(), c, "synthetic").record, out.geometry);
+  expectSameModelFiles(a, b, true);
+  const MlpModelFile loaded = loadMlpModel(a);
+  EXPECT_EQ(loaded.parameters.output_envelope, MlpOutputEnvelope::SoftDepth);
+  EXPECT_EQ(loaded.parameters.envelope_width, 0.01);
+  EXPECT_EQ(out.record.settings["mlp"]["output_envelope"], "soft_depth");
+  EXPECT_EQ(out.record.settings["mlp"]["envelope_width"], 0.01);
+}
+
 // ==== bad settings ==============================================================================
 
 TEST(MlpFitBadSettings, NameTheConfigurationKey) {
@@ -540,7 +626,7 @@ TEST(MlpFitBadSettings, NameTheConfigurationKey) {
   expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"teacher_grid", {10, 0}}}}}, ctx); }),
             {"fit.json.mlp.teacher_grid", "[n_phi, n_beta]"});
   expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"output_envelope", "sqrt"}}}}, ctx); }),
-            {"fit.json.mlp.output_envelope", "\"none\"", "\"depth\"", "got \"sqrt\""});
+            {"fit.json.mlp.output_envelope", "\"none\"", "\"depth\"", "\"soft_depth\"", "got \"sqrt\""});
   expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"output_envelope", 1}}}}, ctx); }),
             {"fit.json.mlp.output_envelope"});
   expectAll(inputErrorMessage([&] {
@@ -553,6 +639,19 @@ TEST(MlpFitBadSettings, NameTheConfigurationKey) {
             {"fit.json.mlp.lbfgs_history"});
   expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"teacher_depth_power", 0.5}}}}, ctx); }),
             {"fit.json.mlp.teacher_depth_power", "[1, 100]"});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"envelope_width", 0}}}}, ctx); }),
+            {"fit.json.mlp.envelope_width", "(0, 10]"});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"teacher_refinement", {0.01, -0.1}}}}}, ctx); }),
+            {"fit.json.mlp.teacher_refinement", "(0, 10)"});
+  expectAll(inputErrorMessage([&] { parseFitConfig(json{{"mlp", {{"teacher_refinement", 0.01}}}}, ctx); }),
+            {"fit.json.mlp.teacher_refinement"});
+  {  // the soft depth envelope goes with the anchors
+    const FitConfig soft =
+        parseFitConfig(json{{"mlp", {{"output_envelope", "soft_depth"}, {"zero_anchors", true}, {"envelope_width", 0.003}}}}, ctx);
+    EXPECT_EQ(soft.mlp.output_envelope, MlpOutputEnvelope::SoftDepth);
+    EXPECT_EQ(soft.mlp.envelope_width, 0.003);
+    EXPECT_TRUE(soft.mlp.zero_anchors);
+  }
   EXPECT_EQ(parseFitConfig(json::object(), ctx).mlp.output_envelope, MlpOutputEnvelope::None);
   EXPECT_EQ(parseFitConfig(json{{"mlp", {{"output_envelope", "depth"}}}}, ctx).mlp.output_envelope,
             MlpOutputEnvelope::Depth);
@@ -574,7 +673,7 @@ TEST(MlpFitConfig, SettingsJsonParsesBackToTheSameSettings) {
   for (const char* key : {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
                           "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss",
                           "relative_floor", "threads", "teacher_grid", "output_envelope", "lbfgs_iterations",
-                          "lbfgs_history", "zero_anchors", "teacher_depth_power"})
+                          "lbfgs_history", "zero_anchors", "teacher_depth_power", "envelope_width", "teacher_refinement"})
     EXPECT_TRUE(j["mlp"].contains(key)) << key;
   EXPECT_EQ(j.contains("rbf"), c.mlp.teacher_grid[0] > 0) << "the rbf section only for a teacher";
   const FitConfig back = parseFitConfig(j, {"settings", ""});

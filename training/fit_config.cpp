@@ -95,7 +95,7 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   requireKnownKeys(m,
                    {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
                     "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss", "relative_floor",
-                    "threads", "teacher_grid", "output_envelope", "lbfgs_iterations", "lbfgs_history", "zero_anchors", "teacher_depth_power"},
+                    "threads", "teacher_grid", "output_envelope", "envelope_width", "teacher_refinement", "lbfgs_iterations", "lbfgs_history", "zero_anchors", "teacher_depth_power"},
                    mctx);
   MlpFitSettings& mlp = out.mlp;
   mlp.hidden_layers = readInteger(m, "hidden_layers", mlp.hidden_layers, mctx, 0, 100);
@@ -146,10 +146,18 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
          "expected [n_phi, n_beta]: two integers >= 1 (the RBF teacher's grid), or [0, 0] for none, got " +
              m.at("teacher_grid").dump());
   mlp.teacher_grid = {static_cast<int>(grid[0]), static_cast<int>(grid[1])};
+  mlp.teacher_refinement = readNumbers(m, "teacher_refinement", mlp.teacher_refinement, mctx);
+  for (double offset : mlp.teacher_refinement)
+    if (!(offset > 0.0 && offset < 10.0))
+      fail(mctx, "teacher_refinement", "expected angle offsets in (0, 10) rad, got " + m.at("teacher_refinement").dump());
   const std::string envelope = readString(m, "output_envelope", mlpOutputEnvelopeName(mlp.output_envelope), mctx);
   if (!parseMlpOutputEnvelope(envelope, &mlp.output_envelope))
     fail(mctx, "output_envelope",
-         "expected \"none\" (W = N) or \"depth\" (W = (-phi) N, zero at the surface), got \"" + envelope + "\"");
+         "expected \"none\" (W = N), \"depth\" (W = (-phi) N, zero at the surface) or \"soft_depth\" "
+         "(W = w softplus(-phi/w) N), got \"" + envelope + "\"");
+  mlp.envelope_width = readNumber(m, "envelope_width", mlp.envelope_width, mctx);
+  if (!(mlp.envelope_width > 0.0 && mlp.envelope_width <= 10.0))
+    fail(mctx, "envelope_width", "must be in (0, 10] m (the soft_depth envelope's width w)");
 
   mlp.lbfgs_iterations = readInteger(m, "lbfgs_iterations", mlp.lbfgs_iterations, mctx, 0, 100000000);
   mlp.lbfgs_history = readInteger(m, "lbfgs_history", mlp.lbfgs_history, mctx, 1, 10000);
@@ -157,7 +165,7 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   mlp.teacher_depth_power = readNumber(m, "teacher_depth_power", mlp.teacher_depth_power, mctx);
   if (!(mlp.teacher_depth_power >= 1.0 && mlp.teacher_depth_power <= 100.0))
     fail(mctx, "teacher_depth_power", "must be in [1, 100] (1: evenly spaced teacher rows; more: denser near the surface)");
-  if (mlp.zero_anchors && mlp.output_envelope != MlpOutputEnvelope::None)
+  if (mlp.zero_anchors && mlp.output_envelope == MlpOutputEnvelope::Depth)
     fail(mctx, "zero_anchors", "cannot be combined with output_envelope \"depth\" (the envelope is zero at the surface already)");
 
   const ConfigContext gctx = child(ctx, "geometry");
@@ -201,6 +209,8 @@ nlohmann::ordered_json fitConfigJson(const FitConfig& c, double torque_centre, c
                   {"threads", m.threads},
                   {"teacher_grid", {m.teacher_grid[0], m.teacher_grid[1]}},
                   {"output_envelope", mlpOutputEnvelopeName(m.output_envelope)},
+                  {"envelope_width", m.envelope_width},
+                  {"teacher_refinement", m.teacher_refinement},
                   {"lbfgs_iterations", m.lbfgs_iterations},
                   {"lbfgs_history", m.lbfgs_history},
                   {"zero_anchors", m.zero_anchors},

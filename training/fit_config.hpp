@@ -41,12 +41,17 @@
 //       "teacher_grid": [0, 0],       [n_φ, n_β] ≥ 1: also train on the "rbf" section's RBF through
 //                                     the same points, sampled on this grid over the points at or
 //                                     below the surface; [0, 0] = no teacher (mlp_fit.hpp)
-//       "output_envelope": "none",    or "depth": the model is W = (−φ) N, zero at the surface
+//       "output_envelope": "none",    or "depth": the model is W = (−φ) N, zero at the surface, or
+//                                     "soft_depth": W = w softplus(−φ/w) N, ≈ −φ N below the surface
 //                                     (contact_models/mlp_function.hpp, mlp_fit.hpp)
+//       "envelope_width": 0.005,      m in (0, 10]: w of "soft_depth"
+//       "teacher_refinement": [],     rad in (0, 10): extra teacher columns at every data angle ±
+//                                     each of these (where the thin-plate teacher bends sharply)
 //       "lbfgs_iterations": 0,        ≥ 0: full-batch L-BFGS iterations after the Adam epochs
 //       "lbfgs_history": 50,          ≥ 1: L-BFGS memory
 //       "zero_anchors": false,        true: W exactly zero at the zero-wrench training points
-//                                     (mlp_function.hpp; not with output_envelope "depth")
+//                                     (mlp_function.hpp; not with output_envelope "depth", whose
+//                                     factor is zero at the surface already)
 //       "teacher_depth_power": 1      in [1, 100]: teacher rows packed towards the surface
 //     },
 //     "geometry": {                   stored in the model file (planar_wrench_model.hpp)

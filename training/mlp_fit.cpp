@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -112,13 +113,30 @@ PlanarPoints teacherSamples(const PlanarPoints& points, const std::vector<int>& 
   if (!(lo[0] <= hi[0])) return teacher;  // no point at or below the surface
   const int n0 = s.teacher_grid[0], n1 = s.teacher_grid[1];
   const std::vector<double> rows = teacherDepthRows(lo[0], hi[0], n0, s.teacher_depth_power);
-  teacher.features.resize(n0 * n1, 2);
+  std::vector<double> columns;
+  for (int b = 0; b < n1; ++b) columns.push_back(n1 > 1 ? lo[1] + (hi[1] - lo[1]) * b / (n1 - 1.0) : lo[1]);
+  // Extra columns beside the data's angles, where the thin-plate teacher bends sharply (its
+  // ρ² log ρ kernel at the zero-wrench surface points).
+  if (!s.teacher_refinement.empty()) {
+    std::vector<double> data_angles;
+    for (int i = 0; i < fitted.pointCount(); ++i)
+      if (fitted.origin[i] != PointOrigin::AboveSurface) data_angles.push_back(fitted.features(i, 1));
+    std::sort(data_angles.begin(), data_angles.end());
+    data_angles.erase(std::unique(data_angles.begin(), data_angles.end()), data_angles.end());
+    for (double angle : data_angles)
+      for (double offset : s.teacher_refinement)
+        for (double c : {angle - offset, angle + offset})
+          if (c >= lo[1] && c <= hi[1]) columns.push_back(c);
+    std::sort(columns.begin(), columns.end());  // columns closer than 1e-9 rad are one (round-off)
+    columns.erase(std::unique(columns.begin(), columns.end(), [](double a, double b) { return b - a <= 1e-9; }),
+                  columns.end());
+  }
+  const int nc = static_cast<int>(columns.size());
+  teacher.features.resize(n0 * nc, 2);
   for (int a = 0; a < n0; ++a)
-    for (int b = 0; b < n1; ++b)
-      teacher.features.row(a * n1 + b) << rows[a],
-          (n1 > 1 ? lo[1] + (hi[1] - lo[1]) * b / (n1 - 1.0) : lo[1]);
+    for (int b = 0; b < nc; ++b) teacher.features.row(a * nc + b) << rows[a], columns[b];
   rbf.evaluate(teacher.features, teacher.values, nullptr, nullptr);
-  teacher.origin.assign(n0 * n1, PointOrigin::Measured);
+  teacher.origin.assign(n0 * nc, PointOrigin::Measured);
   return teacher;
 }
 }  // namespace
@@ -139,7 +157,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
       !(s.final_learning_rate > 0.0) || s.batch_size < 0 || !(s.validation_fraction >= 0.0 && s.validation_fraction < 1.0) ||
       s.patience < 0 || !(s.weight_decay >= 0.0) || !(s.relative_floor > 0.0) || s.threads < 1 ||
       s.lbfgs_iterations < 0 || s.lbfgs_history < 1 || !(s.teacher_depth_power >= 1.0) ||
-      (s.zero_anchors && s.output_envelope != MlpOutputEnvelope::None))
+      (s.zero_anchors && s.output_envelope == MlpOutputEnvelope::Depth) || !(s.envelope_width > 0.0))
     throw std::invalid_argument("fitMlp: invalid settings (parseFitConfig rejects them)");
   const int P = points.pointCount(), K = points.vertexCount(), O = 3 * K;
   if (P < 2)
@@ -211,17 +229,24 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   params.output_offset = ymu.transpose();
   params.output_scale = stdOf(Yt, ymu).transpose();
   params.output_envelope = s.output_envelope;
-  const bool depth_envelope = s.output_envelope == MlpOutputEnvelope::Depth;
+  if (s.output_envelope == MlpOutputEnvelope::SoftDepth) params.envelope_width = s.envelope_width;
+  const bool enveloped = s.output_envelope != MlpOutputEnvelope::None;
+  // The envelope's factor m(φ) of every row (fixed: it depends on the inputs only).
+  Eigen::VectorXd envelope_col = Eigen::VectorXd::Ones(P + T);
+  for (int i = 0; i < P + T; ++i) {
+    double dm;
+    mlpEnvelopeFactor(s.output_envelope, params.envelope_width, F(i, 0), &envelope_col[i], &dm);
+  }
   const Eigen::RowVectorXd w_scale = params.output_scale.transpose();  // the spread of W (the "mse" loss's unit)
-  if (depth_envelope) {
-    // The network fits N = W / (−φ): normalized by its mean and spread over the training points
-    // below the surface (at φ = 0 the wrench is (−φ) N = 0 whatever N is).
+  if (enveloped) {
+    // The network fits N = W / m(φ): normalized by its mean and spread over the training points
+    // below the surface (at φ = 0 the "depth" wrench is (−φ) N = 0 whatever N is).
     std::vector<int> below;
     for (int i : train)
       if (F(i, 0) < 0.0) below.push_back(i);
     if (!below.empty()) {
       Eigen::MatrixXd Nt(below.size(), O);
-      for (size_t r = 0; r < below.size(); ++r) Nt.row(r) = Y.row(below[r]) / (-F(below[r], 0));
+      for (size_t r = 0; r < below.size(); ++r) Nt.row(r) = Y.row(below[r]) / envelope_col[below[r]];
       const Eigen::RowVectorXd nmu = Nt.colwise().mean();
       params.output_offset = nmu.transpose();
       params.output_scale = stdOf(Nt, nmu).transpose();
@@ -264,16 +289,34 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   // The loss weights. Without an envelope they multiply the normalized outputs y − ŷ, so they carry
   // output_scale; with the depth envelope they multiply W − W_data itself.
   const Eigen::RowVectorXd unit =
-      depth_envelope ? Eigen::RowVectorXd(Eigen::RowVectorXd::Ones(O)) : Eigen::RowVectorXd(params.output_scale.transpose());
-  Eigen::MatrixXd Wl = depth_envelope ? Eigen::MatrixXd(w_scale.cwiseInverse().replicate(P + T, 1))
+      enveloped ? Eigen::RowVectorXd(Eigen::RowVectorXd::Ones(O)) : Eigen::RowVectorXd(params.output_scale.transpose());
+  Eigen::MatrixXd Wl = enveloped ? Eigen::MatrixXd(w_scale.cwiseInverse().replicate(P + T, 1))
                                       : Eigen::MatrixXd::Ones(P + T, O);
   if (s.loss == MlpLoss::Relative) {
     double largest = 0.0;  // over the training points: the validation points stay unseen
     for (int i : train)
       if (i < P) largest = std::max(largest, Y.row(i).cwiseAbs().maxCoeff());
     const double floor = s.relative_floor * (largest > 0.0 ? largest : 1.0);
+    // With the soft depth envelope the floor follows it: floor · m(min(φ, 0)) / m at the largest
+    // wrench's depth, so that near the surface, where the wrench is small, the loss stays relative.
+    const bool soft = s.output_envelope == MlpOutputEnvelope::SoftDepth && std::getenv("NMDP_FLAT_FLOOR") == nullptr;
+    double largest_m = 1.0;
+    if (soft) {
+      double largest_row = 0.0;
+      for (int i : train)
+        if (i < P && Y.row(i).cwiseAbs().maxCoeff() > largest_row) {
+          largest_row = Y.row(i).cwiseAbs().maxCoeff();
+          largest_m = envelope_col[i];
+        }
+    }
     for (int i = 0; i < P + T; ++i) {
-      const double si = std::max(Y.row(i).cwiseAbs().maxCoeff(), floor);
+      double floor_i = floor;
+      if (soft) {
+        double m0, dm;
+        mlpEnvelopeFactor(s.output_envelope, params.envelope_width, std::min(F(i, 0), 0.0), &m0, &dm);
+        floor_i = floor * m0 / largest_m;
+      }
+      const double si = std::max(Y.row(i).cwiseAbs().maxCoeff(), floor_i);
       Wl.row(i) = unit / si;
     }
     // At the anchors the loss sees the network itself (below): a mild pull towards N(ξ_a) ≈ 0, on
@@ -293,9 +336,8 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   }
   // With the depth envelope the targets are the wrenches themselves and the network's output is
   // mapped to W = (−φ) ⊙ (output_scale ⊙ y + output_offset) inside the graph.
-  const Eigen::MatrixXd depth_col = (0.0 - F.col(0).array()).matrix();
-  const torch::Tensor X_all = toTensor(Xn), Y_all = toTensor(depth_envelope ? Y : Yn), W_all = toTensor(Wl),
-                      D_all = toTensor(depth_col);
+  const torch::Tensor X_all = toTensor(Xn), Y_all = toTensor(enveloped ? Y : Yn), W_all = toTensor(Wl),
+                      D_all = toTensor(Eigen::MatrixXd(envelope_col));  // (P + T) × 1
   const torch::Tensor out_scale = toTensor(params.output_scale).unsqueeze(0),
                       out_offset = toTensor(params.output_offset).unsqueeze(0);
   // With zero anchors the normalized output is y(x) − Σ_a b_a(x) (y(x_a) + offset ⊘ scale), i.e.
@@ -315,9 +357,10 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   // The loss on rows x (normalized inputs), targets t, weights w, depths −φ (column d), bumps b.
   const auto loss = [&](const torch::Tensor& x, const torch::Tensor& t, const torch::Tensor& w, const torch::Tensor& d,
                         const torch::Tensor& b) {
-    if (anchored) return weightedLoss(net.forward(x) - torch::mm(b, net.forward(X_anchor) + anchor_shift), t, w);
-    if (!depth_envelope) return weightedLoss(net.forward(x), t, w);
-    return weightedLoss(d * (net.forward(x) * out_scale + out_offset), t, w);
+    torch::Tensor y = net.forward(x);
+    if (anchored) y = y - torch::mm(b, net.forward(X_anchor) + anchor_shift);
+    if (!enveloped) return weightedLoss(y, t, w);
+    return weightedLoss(d * (y * out_scale + out_offset), t, w);
   };
   const auto select = [](const torch::Tensor& t, const std::vector<int>& rows) {
     std::vector<int64_t> r(rows.begin(), rows.end());

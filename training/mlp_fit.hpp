@@ -16,7 +16,13 @@
 //     surface (φ < 0), so N is of order 1, and the loss below is evaluated on W = (−φ) ⊙ N against
 //     W_data inside the torch graph (points at φ = 0 contribute exactly zero error; "mse" divides by
 //     the standard deviation of each W output). The teacher grid, the report, /fit, validation and early
-//     stopping all work on W unchanged;
+//     stopping all work on W unchanged. "soft_depth" (width w = envelope_width) is the same with the
+//     factor m(φ) = w softplus(−φ/w) instead of −φ: the network fits W / m, whose size varies far less
+//     than W's over the depths (the granular wrench grows about linearly with depth), so one absolute
+//     accuracy of N is about one relative accuracy of W. It goes with the zero anchors (the factor
+//     multiplies the anchored network). With it the relative loss's floor follows the factor:
+//     relative_floor · S · m(min(φ_i, 0)) / m(φ_S), φ_S the depth of the largest wrench, so that near
+//     the surface, where the wrench is small, the loss stays relative;
 //   * split by feature point, stratified by origin (measured, mirrored, above the surface): of each
 //     origin's points round(validation_fraction · count) go to validation, picked by a Fisher–Yates
 //     shuffle driven by std::mt19937(seed) (portable: rng() % n, not std::shuffle);
@@ -49,6 +55,11 @@
 //     the correction, and the wrench just above the surface, small);
 //   * teacher_depth_power p ≥ 1: the teacher grid's rows at φ_lo + (φ_hi − φ_lo)(1 − (1 − t)^p)
 //     (teacherDepthRows), denser towards the surface for p > 1;
+//   * teacher_refinement (angle offsets, none by default): more teacher columns at each angle of the
+//     training points at or below the surface ± each offset (inside the grid's angle range; columns
+//     within 1e-9 rad of another are dropped), on every row. A thin-plate teacher bends sharply
+//     (ρ² log ρ) next to its zero-wrench surface points, where the wrench is small and any error
+//     is large relative to it;
 //   * early stopping: after every epoch the loss on the validation points; the weights of the best
 //     epoch are kept and restored at the end; training stops after `patience` epochs without a new
 //     best (0: never early). Without validation points (validation_fraction 0) "best" is the lowest
@@ -93,8 +104,10 @@ struct MlpFitSettings {
   int threads = 1;
   std::array<int, 2> teacher_grid{0, 0};  // n_φ × n_β RBF samples added to the training set; 0 = none
   MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // "depth": W = (−φ) ⊙ N (mlp_function.hpp)
+  double envelope_width = 0.005;  // m: w of "soft_depth", W = w softplus(−φ/w) ⊙ N
   int lbfgs_iterations = 0;  // full-batch L-BFGS iterations after the Adam epochs; 0 = none
   int lbfgs_history = 50;    // L-BFGS memory (curvature pairs)
+  std::vector<double> teacher_refinement;  // rad: extra teacher columns at each data angle ± these
   double teacher_depth_power = 1.0;  // ≥ 1: teacher rows at φ_lo + (φ_hi − φ_lo)(1 − (1 − t)^p), t uniform
   bool zero_anchors = false;  // anchor the model at the zero-wrench training points (mlp_function.hpp)
 };
