@@ -4,7 +4,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <cstdlib>
 #include <cmath>
 #include <iomanip>
 #include <limits>
@@ -299,7 +298,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     const double floor = s.relative_floor * (largest > 0.0 ? largest : 1.0);
     // With the soft depth envelope the floor follows it: floor · m(min(φ, 0)) / m at the largest
     // wrench's depth, so that near the surface, where the wrench is small, the loss stays relative.
-    const bool soft = s.output_envelope == MlpOutputEnvelope::SoftDepth && std::getenv("NMDP_FLAT_FLOOR") == nullptr;
+    const bool soft = s.output_envelope == MlpOutputEnvelope::SoftDepth;
     double largest_m = 1.0;
     if (soft) {
       double largest_row = 0.0;
