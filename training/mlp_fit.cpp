@@ -286,7 +286,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
                              params.output_scale.transpose().array();
   fit.point_scale = pointScales(points);
   // The loss weights. Without an envelope they multiply the normalized outputs y − ŷ, so they carry
-  // output_scale; with the depth envelope they multiply W − W_data itself.
+  // output_scale; with an envelope they multiply W − W_data itself.
   const Eigen::RowVectorXd unit =
       enveloped ? Eigen::RowVectorXd(Eigen::RowVectorXd::Ones(O)) : Eigen::RowVectorXd(params.output_scale.transpose());
   Eigen::MatrixXd Wl = enveloped ? Eigen::MatrixXd(w_scale.cwiseInverse().replicate(P + T, 1))
@@ -333,8 +333,8 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     net.weight.push_back(toTensor(l.weight).requires_grad_(true));
     net.bias.push_back(toTensor(l.bias).requires_grad_(true));
   }
-  // With the depth envelope the targets are the wrenches themselves and the network's output is
-  // mapped to W = (−φ) ⊙ (output_scale ⊙ y + output_offset) inside the graph.
+  // With an envelope the targets are the wrenches themselves and the network's output is mapped to
+  // W = m(φ) ⊙ (output_scale ⊙ y + output_offset) inside the graph.
   const torch::Tensor X_all = toTensor(Xn), Y_all = toTensor(enveloped ? Y : Yn), W_all = toTensor(Wl),
                       D_all = toTensor(Eigen::MatrixXd(envelope_col));  // (P + T) × 1
   const torch::Tensor out_scale = toTensor(params.output_scale).unsqueeze(0),
@@ -353,7 +353,8 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
     anchor_shift = toTensor(Eigen::VectorXd(params.output_offset.cwiseQuotient(params.output_scale))).unsqueeze(0);
   }
   const torch::Tensor B_all = toTensor(bumps);
-  // The loss on rows x (normalized inputs), targets t, weights w, depths −φ (column d), bumps b.
+  // The loss on rows x (normalized inputs), targets t, weights w, envelope factors m(φ) (column d),
+  // bumps b.
   const auto loss = [&](const torch::Tensor& x, const torch::Tensor& t, const torch::Tensor& w, const torch::Tensor& d,
                         const torch::Tensor& b) {
     torch::Tensor y = net.forward(x);
