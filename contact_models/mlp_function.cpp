@@ -362,7 +362,9 @@ void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
     if (dW_dbeta) dW_dbeta->noalias() -= db_dbeta * anchor_values_;
   }
   if (params_.output_envelope == MlpOutputEnvelope::Depth && features.rows() > 0) {
-    // W = (−φ) ⊙ N: dW/dφ = −N + (−φ) ⊙ dN/dφ, dW/dβ = (−φ) ⊙ dN/dβ (W still holds N here).
+    // W = (−φ) ⊙ N: dW/dφ = −N + (−φ) ⊙ dN/dφ, dW/dβ = (−φ) ⊙ dN/dβ (W still holds N here). Not the
+    // soft branch's loop with m' = −1: that one may contract m' N + m dN into an FMA, and files of
+    // this envelope keep their bits.
     const Eigen::ArrayXd depth = 0.0 - features.col(0).array();  // 0.0 − φ: +0 at the surface
     if (dW_dphi) *dW_dphi = (dW_dphi->array().colwise() * depth - W.array()).matrix();
     if (dW_dbeta) dW_dbeta->array().colwise() *= depth;

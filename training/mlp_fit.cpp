@@ -292,22 +292,18 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   Eigen::MatrixXd Wl = enveloped ? Eigen::MatrixXd(w_scale.cwiseInverse().replicate(P + T, 1))
                                       : Eigen::MatrixXd::Ones(P + T, O);
   if (s.loss == MlpLoss::Relative) {
-    double largest = 0.0;  // over the training points: the validation points stay unseen
+    // Over the training points (the validation points stay unseen): the largest wrench entry and
+    // the envelope's factor at its point.
+    double largest = 0.0, largest_m = 1.0;
     for (int i : train)
-      if (i < P) largest = std::max(largest, Y.row(i).cwiseAbs().maxCoeff());
+      if (i < P && Y.row(i).cwiseAbs().maxCoeff() > largest) {
+        largest = Y.row(i).cwiseAbs().maxCoeff();
+        largest_m = envelope_col[i];
+      }
     const double floor = s.relative_floor * (largest > 0.0 ? largest : 1.0);
     // With the soft depth envelope the floor follows it: floor · m(min(φ, 0)) / m at the largest
     // wrench's depth, so that near the surface, where the wrench is small, the loss stays relative.
     const bool soft = s.output_envelope == MlpOutputEnvelope::SoftDepth;
-    double largest_m = 1.0;
-    if (soft) {
-      double largest_row = 0.0;
-      for (int i : train)
-        if (i < P && Y.row(i).cwiseAbs().maxCoeff() > largest_row) {
-          largest_row = Y.row(i).cwiseAbs().maxCoeff();
-          largest_m = envelope_col[i];
-        }
-    }
     for (int i = 0; i < P + T; ++i) {
       double floor_i = floor;
       if (soft) {

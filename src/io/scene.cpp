@@ -340,10 +340,11 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
     out["points"] = "auto";
   } else {
     json list = json::array();
-    for (const ContactPointSpec& p : c.contact_points)
-      list.push_back({{"name", p.name}, {"link", p.link}, {"offset", toJson(p.offset)}, {"radius", p.radius}});
-    for (size_t i = 0; i < c.contact_points.size(); ++i)
-      if (c.contact_points[i].leg_axis) list[i]["leg_axis"] = toJson(*c.contact_points[i].leg_axis);
+    for (const ContactPointSpec& p : c.contact_points) {
+      json point = {{"name", p.name}, {"link", p.link}, {"offset", toJson(p.offset)}, {"radius", p.radius}};
+      if (p.leg_axis) point["leg_axis"] = toJson(*p.leg_axis);
+      list.push_back(point);
+    }
     out["points"] = list;
   }
 
