@@ -647,7 +647,9 @@ def claims(A, case_list, measures, args):
         st = [f"{m['dt'] * 1000:g}" for m in rs if m["stable"]]
         un = [f"{m['dt'] * 1000:g}" for m in rs if not m["stable"]]
         worst = max((m.get("tilt_max", float("nan")) for m in rs if m["stable"]), default=float("nan"))
-        A(f"- {c['id']}: stable at dt = {', '.join(st) or 'none'} ms; unstable at {', '.join(un) or 'none'} ms"
+        stable_at = f"stable at dt = {', '.join(st)} ms" if st else "stable at no dt"
+        unstable_at = f"unstable at {', '.join(un)} ms" if un else "unstable at no dt"
+        A(f"- {c['id']}: {stable_at}; {unstable_at}"
           + (f"; largest tilt among its stable runs {math.degrees(worst):.1f}°" if math.isfinite(worst) else "") + ".")
     A("")
     A("Largest torso tilt (degrees) over each run, by dt (the paper's Fig. 'jump' plots this tilt; the ground truth is 0). "
