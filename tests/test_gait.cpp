@@ -567,6 +567,79 @@ TEST_F(RoboSimianPaperTest, TrotAndJumpFromTheBentPose) {
   }
 }
 
+// The ground-speed swing: the foot leaves and meets the ground at the stance's speed (dx/du =
+// −stride/duty, at rest on the ground when the trunk keeps the plan's pace), descends its last
+// ground_speed_share at that speed, lifts exactly as the cosine swing does, and joins the stance
+// continuously; the cosine swing instead stops in the trunk frame at both ends.
+TEST(Gait, GroundSpeedSwingMeetsTheGroundAtTheStanceSpeed) {
+  for (double duty : {0.5, 0.6}) {
+    for (double share : {0.0, 0.15, 0.3}) {
+      TrotParameters trot;
+      trot.stride_length = 0.2;
+      trot.step_height = 0.1;
+      trot.duty_factor = duty;
+      trot.swing_profile = SwingProfile::GroundSpeed;
+      trot.ground_speed_share = share;
+      TrotParameters cosine = trot;
+      cosine.swing_profile = SwingProfile::Cosine;
+      const double swing = 1 - duty, stance_slope = -0.2 / duty, du = 1e-6;
+      auto slope = [&](const TrotParameters& t, double u) {
+        return (trotFootDisplacement(t, u + du).x() - trotFootDisplacement(t, u - du).x()) / (2 * du);
+      };
+      const std::string where = "duty " + std::to_string(duty) + ", share " + std::to_string(share);
+      // Continuous with the stance at lift-off (u = 0, the stance's end wraps to 1) and touch-down.
+      EXPECT_NEAR(trotFootDisplacement(trot, 0.0).x(), -0.1, 1e-12) << where;
+      EXPECT_NEAR(trotFootDisplacement(trot, swing - 1e-12).x(), 0.1, 1e-9) << where;
+      EXPECT_NEAR(trotFootDisplacement(trot, swing).x(), 0.1, 1e-12) << where;
+      EXPECT_NEAR(slope(trot, 2 * du), stance_slope, 1e-4) << where;
+      EXPECT_NEAR(slope(trot, swing - 2 * du), stance_slope, 1e-4) << where;
+      EXPECT_NEAR(slope(trot, 0.5 * (swing + 1)), stance_slope, 1e-6) << where;  // the stance itself
+      EXPECT_NEAR(slope(cosine, 2 * du), 0.0, 1e-4) << where;
+      EXPECT_NEAR(slope(cosine, swing - 2 * du), 0.0, 1e-4) << where;
+      // The last share of the swing moves at the stance speed throughout.
+      if (share > 0) {
+        for (double f : {0.2, 0.5, 0.8})
+          EXPECT_NEAR(slope(trot, swing * (1 - share * f)), stance_slope, 1e-6) << where << " f " << f;
+      }
+      // The height is the cosine swing's, and the foot goes forward (beyond +stride/2, to come back).
+      double x_max = -1;
+      for (int i = 0; i <= 200; ++i) {
+        const double u = swing * i / 200;
+        EXPECT_NEAR(trotFootDisplacement(trot, u).z(), trotFootDisplacement(cosine, u).z(), 1e-15) << where;
+        x_max = std::max(x_max, trotFootDisplacement(trot, u).x());
+      }
+      EXPECT_GT(x_max, 0.1 + 0.2 * swing / duty * share - 1e-9) << where;
+    }
+  }
+}
+
+TEST_P(QuadrupedTest, GroundSpeedTrotKeyframesFollowTheDesign) {
+  TrotParameters trot;
+  trot.swing_profile = SwingProfile::GroundSpeed;
+  trot.ground_speed_share = 0.2;
+  const KeyframePdTarget target = makeTrotTarget(model, trot);
+  const TrotParameters resolved = withRobotDefaults(trot, pose);
+  LegIkSolver ik(model, readJointLimits(model));
+  const std::vector<double>& knots = target.spline().knotTimes();
+  // The end of the forward travel (phase 0.5 · 0.8 = 0.4 of FL's cycle) is a keyframe.
+  EXPECT_TRUE(std::any_of(knots.begin(), knots.end(), [&](double t) { return std::abs(t - 0.4 * trot.period) < 1e-12; }));
+  for (size_t k = 0; k + 1 < knots.size(); ++k) {
+    const auto d = footDisplacements(model, legs, pose, ik, target, knots[k]);
+    for (int id = 0; id < 4; ++id) {
+      const Vec3 designed = trotFootDisplacement(resolved, trotLegPhase(resolved, static_cast<LegId>(id), knots[k]));
+      EXPECT_LT((d[id] - designed).norm(), 1e-9) << legIdName(static_cast<LegId>(id)) << " t = " << knots[k];
+    }
+  }
+  trot.ground_speed_share = 1.0;
+  EXPECT_THROW(makeTrotTarget(model, trot), std::invalid_argument);
+}
+
+TEST(Gait, ParsesSwingProfileNames) {
+  EXPECT_EQ(parseSwingProfile("cosine"), SwingProfile::Cosine);
+  EXPECT_EQ(parseSwingProfile("ground_speed"), SwingProfile::GroundSpeed);
+  EXPECT_THROW(parseSwingProfile("ground-speed"), std::invalid_argument);
+}
+
 TEST(Gait, ParsesTypeNames) {
   EXPECT_EQ(parseGaitType("trot"), GaitType::Trot);
   EXPECT_EQ(parseGaitType("jump"), GaitType::Jump);

@@ -74,6 +74,7 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
   EXPECT_EQ(c.gait.type, GaitType::Trot);
   EXPECT_EQ(c.gait.trot.period, 0.5);
   EXPECT_EQ(c.gait.trot.duty_factor, 0.5);
+  EXPECT_EQ(c.gait.trot.swing_profile, SwingProfile::Cosine);
   EXPECT_TRUE(c.kp.empty() && c.kd.empty() && c.tau_ff.empty());
   EXPECT_EQ(c.duration, 10.0);
   EXPECT_EQ(c.output_file, (fs::current_path() / "scene.h5").lexically_normal().string());
@@ -95,6 +96,8 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
   EXPECT_EQ(r.at("integrator").at("method"), "ne-pgm");
   EXPECT_EQ(r.at("controller").at("gait").at("period"), 0.5);
   EXPECT_EQ(r.at("controller").at("gait").at("duty_factor"), 0.5);
+  EXPECT_EQ(r.at("controller").at("gait").at("swing_profile"), "cosine");
+  EXPECT_EQ(r.at("controller").at("gait").at("ground_speed_share"), 0.15);
   EXPECT_EQ(r.at("duration"), 10.0);
   EXPECT_EQ(r.at("output").at("every"), 1);
   EXPECT_EQ(r.at("output").at("file"), c.output_file);
@@ -123,6 +126,22 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
 
 // ---- --set -----------------------------------------------------------------------------------------
 
+
+TEST(Scene, TrotSwingProfileParsesAndResolves) {
+  SceneFixture f;
+  json s = f.scene;
+  applyOverride(s, "controller.gait.swing_profile=ground_speed", f.scene_path);
+  applyOverride(s, "controller.gait.ground_speed_share=0.25", f.scene_path);
+  const SceneConfig c = f.parse(s);
+  EXPECT_EQ(c.gait.trot.swing_profile, SwingProfile::GroundSpeed);
+  EXPECT_EQ(c.gait.trot.ground_speed_share, 0.25);
+  EXPECT_EQ(c.resolved.at("controller").at("gait").at("swing_profile"), "ground_speed");
+  EXPECT_EQ(c.resolved.at("controller").at("gait").at("ground_speed_share"), 0.25);
+  // The resolved scene parses again to the same run.
+  const SceneConfig again = f.parse(c.resolved);
+  EXPECT_EQ(again.gait.trot.swing_profile, SwingProfile::GroundSpeed);
+  EXPECT_EQ(again.gait.trot.ground_speed_share, 0.25);
+}
 TEST(Scene, OverridesNumbersBoolsStringsNewKeysArrays) {
   SceneFixture f;
   f.dir.write("sand.h5", "");  // only its existence is checked here
@@ -195,6 +214,10 @@ TEST(Scene, EveryBadInputHasAnActionableMessage) {
       {"too large dt", [](json& s) { s["integrator"]["dt"] = 2; }, {"integrator.dt: must be in (0, 1], got 2"}},
       {"duration zero", [](json& s) { s["duration"] = 0; }, {"duration: must be > 0, got 0"}},
       {"duty factor", [](json& s) { s["controller"]["gait"]["duty_factor"] = 1; }, {"controller.gait.duty_factor: must be in (0, 1)"}},
+      {"swing profile", [](json& s) { s["controller"]["gait"]["swing_profile"] = "ground"; },
+       {"controller.gait.swing_profile: unknown value 'ground'", "valid: cosine, ground_speed"}},
+      {"ground speed share", [](json& s) { s["controller"]["gait"]["ground_speed_share"] = 1; },
+       {"controller.gait.ground_speed_share: must be in [0, 1)"}},
       {"missing urdf key", [](json& s) { s["robot"].erase("urdf"); }, {"scene.json: robot: missing required key 'urdf'"}},
       {"missing robot", [](json& s) { s.erase("robot"); }, {"missing required key 'robot'"}},
       {"missing urdf file", [](json& s) { s["robot"]["urdf"] = "robots/nope.urdf"; }, {"robot.urdf: file not found", "robots/nope.urdf"}},

@@ -110,6 +110,20 @@ GaitType parseGaitType(const std::string& name) {
   fail("unknown gait type '" + name + "' (valid: stand, trot, jump)");
 }
 
+const char* swingProfileName(SwingProfile profile) {
+  switch (profile) {
+    case SwingProfile::Cosine: return "cosine";
+    case SwingProfile::GroundSpeed: return "ground_speed";
+  }
+  return "?";
+}
+
+SwingProfile parseSwingProfile(const std::string& name) {
+  for (SwingProfile profile : {SwingProfile::Cosine, SwingProfile::GroundSpeed})
+    if (name == swingProfileName(profile)) return profile;
+  fail("unknown swing profile '" + name + "' (valid: cosine, ground_speed)");
+}
+
 StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const StandParameters& stand) {
   if (stand.nominal_q.size() != 0 && (stand.nominal_q.size() != model.nq || !stand.nominal_q.allFinite()))
     fail("stand.nominal_q must hold " + std::to_string(model.nq) + " finite values, got " +
@@ -207,9 +221,20 @@ double trotLegPhase(const TrotParameters& trot, LegId leg, double t) {
 Vec3 trotFootDisplacement(const TrotParameters& trot, double u) {
   const double stride = *trot.stride_length, lift = *trot.step_height;
   const double swing = 1.0 - trot.duty_factor;
-  if (u < swing) {  // cosine profiles: the foot leaves and lands with zero vertical speed
+  if (u < swing) {  // the foot leaves and lands with zero vertical speed
     const double s = u / swing;
-    return {-stride / 2 + stride * (1 - std::cos(kPi * s)) / 2, 0.0, lift * (1 - std::cos(2 * kPi * s)) / 2};
+    const double z = lift * (1 - std::cos(2 * kPi * s)) / 2;
+    if (trot.swing_profile == SwingProfile::Cosine) return {-stride / 2 + stride * (1 - std::cos(kPi * s)) / 2, 0.0, z};
+    // dx/ds of the stance, so that the foot is at rest on the ground at both ends of the swing.
+    const double slope = -stride * swing / trot.duty_factor;
+    const double forward_end = 1.0 - trot.ground_speed_share;
+    const double x_end = stride / 2 - slope * trot.ground_speed_share;  // where the forward travel ends
+    if (s >= forward_end) return {x_end + slope * (s - forward_end), 0.0, z};
+    // Cubic Hermite from (−stride/2, slope) to (x_end, slope) over [0, forward_end].
+    const double v = s / forward_end, v2 = v * v, v3 = v2 * v, m = slope * forward_end;
+    const double x = (2 * v3 - 3 * v2 + 1) * (-stride / 2) + (v3 - 2 * v2 + v) * m + (-2 * v3 + 3 * v2) * x_end +
+                     (v3 - v2) * m;
+    return {x, 0.0, z};
   }
   const double s = (u - swing) / trot.duty_factor;
   return {stride / 2 - stride * s, 0.0, 0.0};
@@ -228,13 +253,18 @@ KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot_i
   requireNonNegative(*trot.step_height, "trot.step_height");
   if (!(trot.duty_factor > 0 && trot.duty_factor < 1)) fail("trot.duty_factor must lie in (0, 1)");
   if (trot.keyframes_per_period < 2) fail("trot.keyframes_per_period must be at least 2");
+  if (!(trot.ground_speed_share >= 0 && trot.ground_speed_share < 1))
+    fail("trot.ground_speed_share must lie in [0, 1)");
 
-  // Keyframe phases: every lift-off, mid-swing and touch-down of both pairs, with the gaps between
-  // them subdivided to at least keyframes_per_period per cycle.
+  // Keyframe phases: every lift-off, mid-swing and touch-down of both pairs (and the end of the
+  // forward travel of a ground-speed swing), with the gaps between them subdivided to at least
+  // keyframes_per_period per cycle.
   const double swing = 1.0 - trot.duty_factor;
+  std::vector<double> swing_events = {0.0, swing / 2, swing};
+  if (trot.swing_profile == SwingProfile::GroundSpeed) swing_events.push_back(swing * (1.0 - trot.ground_speed_share));
   std::vector<double> events;
   for (double offset : {0.0, 0.5})
-    for (double u : {0.0, swing / 2, swing}) {
+    for (double u : swing_events) {
       const double phase = u - offset;
       events.push_back(phase - std::floor(phase));
     }

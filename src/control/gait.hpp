@@ -34,11 +34,29 @@ struct StandParameters {
   Eigen::VectorXd nominal_q;
 };
 
+// How a swing foot leaves and meets the ground (trotFootDisplacement).
+enum class SwingProfile {
+  // The foot starts and stops at rest in the trunk frame (cosine profiles): it lands moving forward
+  // with the trunk's speed, and the stance legs brake it.
+  Cosine,
+  // The foot leaves and lands at rest on the ground: moving backward in the trunk frame at the
+  // stance speed, stride / (duty · period). Its forward travel ends ground_speed_share of the swing
+  // before touch-down; from there it descends at the stance speed, so a foot that meets the ground
+  // early (the trunk sunk into it or lower than planned) lands without sliding either.
+  GroundSpeed,
+};
+const char* swingProfileName(SwingProfile profile);             // "cosine", "ground_speed"
+SwingProfile parseSwingProfile(const std::string& name);        // throws std::invalid_argument listing the names
+
 struct TrotParameters {
   std::optional<double> stride_length;  // m, foot travel relative to the trunk per step; default 0.25·L
   std::optional<double> step_height;    // m, foot lift at mid-swing; default 0.15·L
   double period = 0.5;                  // s, one full cycle (both diagonal pairs step once)
   double duty_factor = 0.5;             // fraction of the period a foot is on the ground, in (0, 1)
+  SwingProfile swing_profile = SwingProfile::Cosine;
+  // GroundSpeed only: share of the swing, at its end, spent descending at the stance speed, in
+  // [0, 1). 0.15 starts it at about a fifth of the step height (z = h (1 − cos 2πs)/2).
+  double ground_speed_share = 0.15;
   int keyframes_per_period = 16;        // IK keyframes (at least); phase events are always keyframes
 };
 
@@ -83,8 +101,9 @@ JumpParameters withRobotDefaults(const JumpParameters& jump, const StandingPose&
 
 // Foot displacement from its standing position (trunk frame) designed by the trot at phase
 // u ∈ [0, 1) of the leg's own cycle: swing on [0, 1 − duty) (lift by step height, move forward by
-// the stride), stance on [1 − duty, 1) (move back by the stride, on the ground). The diagonal
-// pair front left + hind right has u = t/period, the other pair is half a period later.
+// the stride, shaped by swing_profile), stance on [1 − duty, 1) (move back by the stride, on the
+// ground). The diagonal pair front left + hind right has u = t/period, the other pair is half a
+// period later.
 Vec3 trotFootDisplacement(const TrotParameters& resolved, double u);
 double trotLegPhase(const TrotParameters& resolved, LegId leg, double t);
 

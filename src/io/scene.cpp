@@ -218,7 +218,8 @@ const std::vector<std::string> kGaitTypes = {"stand", "trot", "jump", "keyframes
 
 const std::vector<std::string>& gaitKeys(SceneGaitType type) {
   static const std::vector<std::string> stand = {"type", "height"};
-  static const std::vector<std::string> trot = {"type", "height", "stride_length", "step_height", "period", "duty_factor"};
+  static const std::vector<std::string> trot = {"type",   "height",      "stride_length", "step_height",
+                                                 "period", "duty_factor", "swing_profile", "ground_speed_share"};
   static const std::vector<std::string> jump = {"type", "height", "crouch_depth", "push_off_height", "period", "pause"};
   static const std::vector<std::string> keyframes = {"type", "height", "file", "cyclic", "period"};
   switch (type) {
@@ -460,10 +461,21 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
       g.trot.step_height = optionalNumber(in, "step_height", w, atLeast(0));
       g.trot.period = number(in, "period", g.trot.period, w, above(0));
       g.trot.duty_factor = number(in, "duty_factor", g.trot.duty_factor, w, above(0), below(1));
+      {
+        const std::string profile = readStr(in, "swing_profile", swingProfileName(g.trot.swing_profile), w);
+        try {
+          g.trot.swing_profile = parseSwingProfile(profile);
+        } catch (const std::invalid_argument&) {
+          (w / "swing_profile").fail("unknown value '" + profile + "'; valid: cosine, ground_speed");
+        }
+      }
+      g.trot.ground_speed_share = number(in, "ground_speed_share", g.trot.ground_speed_share, w, atLeast(0), below(1));
       if (g.trot.stride_length) out["stride_length"] = *g.trot.stride_length;
       if (g.trot.step_height) out["step_height"] = *g.trot.step_height;
       out["period"] = g.trot.period;
       out["duty_factor"] = g.trot.duty_factor;
+      out["swing_profile"] = swingProfileName(g.trot.swing_profile);
+      out["ground_speed_share"] = g.trot.ground_speed_share;
       break;
     case SceneGaitType::Jump:
       g.type = GaitType::Jump;

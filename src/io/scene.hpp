@@ -40,7 +40,9 @@
 //                  "tau_ff": {joint: value},
 //                  "gait": {"type": stand | trot | jump | keyframes (stand), then per type
 //                    stand:     height
-//                    trot:      height, stride_length, step_height, period (0.5), duty_factor (0.5)
+//                    trot:      height, stride_length, step_height, period (0.5), duty_factor (0.5),
+//                               swing_profile: "cosine" | "ground_speed" (cosine),
+//                               ground_speed_share (0.15, in [0, 1); ground_speed only)
 //                    jump:      height, crouch_depth, push_off_height (> height), period (2), pause (0.4)
 //                    keyframes: height, file (required, must exist), cyclic (false), period}}
 //                  Unset sizes default to the robot (control/gait.hpp).
