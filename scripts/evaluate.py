@@ -102,7 +102,7 @@ def cases():
         # so the walk measured the controller's discretization rather than the contact's. kd = 3: with the default
         # kd (0.174) the robot tips over at dt = 1 ms with every method, and there would be no reference run.
         # The flat walk on a planar base, as the sand walk and the paper's RoboSimian: the open-loop trot has no
-        # heading control, and on the scene's floating base it turned by 0.07-0.48 rad over the sweep (1.2 rad in
+        # heading control, and on the scene's floating base it turned by 0.06-0.58 rad over the sweep (1.2 rad in
         # ne-pgm's 1 ms run), so its forward distance measured the turn. (With the ground_speed swing the floating
         # base also rolled over, pbd-pgm at 45 ms.)
         ("quadruped_walk_rigid", "quadruped", "walk", "rigid", "quadruped_trot_flat.json",
@@ -925,7 +925,7 @@ def verdict_distance(A, walks, rows):
       "2026-11-22, the distance in 10 s at 5 / 10 / 25 / 50 ms is 4.31 / 3.31 / 1.36 / 0.53 m with the paper's K, "
       "3.80 / 4.05 / 3.49 / 2.89 m with the contact-point K (the original authors' default, the scenes' until then) "
       "and 4.33 / 4.39 / 4.35 / 4.57 m with the full-body-pd K; with the contact-point K the spread of the four walks "
-      "above was 39 / 165 / 121 / 140 % for ne-pgm, every one falling with dt. Two settings of the evaluation's "
+      "above was 39 / 165 / 121 / 140 % for ne-pgm, every one falling with dt. Three settings of the evaluation's "
       "walks (not of the scenes) take most of the rest away. (1) Stiff joint gains: RoboSimian K_p = 10000, K_d = 10, "
       "10x DESIGN.md's reference gains (K_p = 1000, K_d = 1, for its 100 kg), with which its trunk bobs between 0.68 "
       "and 0.82 m at 5 ms (0.74-0.79 m at 50 ms) on a plan of a level 0.775 m, against 0.762-0.769 m at 10x; the "
@@ -933,7 +933,7 @@ def verdict_distance(A, walks, rows):
       "more the larger the step (held in the air, 0.015 rad RMS at 50 ms against 0.005 rad at 5 ms; at K_p = 1800 "
       "0.0018 and 0.0005 rad). (2) The ground_speed swing (`controller.gait.swing_profile`, control/gait.hpp). The "
       "default cosine swing stops the foot in the trunk frame at touchdown, so it lands moving forward at the trunk's "
-      "speed, and early wherever the trunk sits lower than planned (stance feet 1-3 cm deep); the stance legs brake "
+      "speed, and early wherever the trunk sits lower than planned (stance feet 0.7-3 cm deep); the stance legs brake "
       "it, and a step of dt carries that braking over the whole step (RoboSimian at 50 ms with K_p = 30000 and a "
       "swing that matched the ground's speed only at the planned touchdown: the foot met the ground one step early at "
       "0.58 m/s and the trunk advanced 14 mm in that step against 26-27 mm in the others). The ground_speed swing "
@@ -942,7 +942,7 @@ def verdict_distance(A, walks, rows):
       "setting, 18.5 / 6.8 % with the stiff gains alone, 13.7 / 24 % with the ground_speed swing alone, 4.3 / 10.1 % "
       "with both (the table above); the quadruped on sand: 17 % with the stiff gains alone, 6.4 % with both. (3) The "
       "quadruped's flat walk runs on a planar base, as its sand walk and the paper's RoboSimian: the open-loop trot "
-      "has no heading control, and on the scene's floating base it turned by 0.07-0.48 rad over the sweep (1.2 rad "
+      "has no heading control, and on the scene's floating base it turned by 0.06-0.58 rad over the sweep (1.2 rad "
       "at 1 ms), sidestepping up to 2 m, so its forward distance measured the turn (that was the fifth it fell short "
       "of its plan), and with the ground_speed swing it rolled over (pbd-pgm, 45 ms). Its spread, ne-pgm: 19.7 % on "
       "the floating base with the cosine swing, 18.9 % planar with the cosine swing, 5.1 % planar with the "
