@@ -608,7 +608,8 @@ TEST(Gait, GroundSpeedSwingMeetsTheGroundAtTheStanceSpeed) {
         EXPECT_NEAR(trotFootDisplacement(trot, u).z(), trotFootDisplacement(cosine, u).z(), 1e-15) << where;
         x_max = std::max(x_max, trotFootDisplacement(trot, u).x());
       }
-      EXPECT_GT(x_max, 0.1 + 0.2 * swing / duty * share - 1e-9) << where;
+      // It arrives at the end of its forward travel moving backward, so it has been beyond it.
+      EXPECT_GT(x_max, 0.1 + 0.2 * swing / duty * share + 1e-4) << where;
     }
   }
 }
