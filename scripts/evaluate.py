@@ -74,7 +74,8 @@ def cases():
     # braking over the whole step, so the walks lost distance at large dt in the steps where the pairs swap.
     # RoboSimian's walk gains: kp = 10000, kd = 10, 10x DESIGN.md's reference gains (K_p = 1000, K_d = 1 for 100 kg,
     # RoboSimian's own): with those the trunk bobs 0.68-0.82 m at dt = 5 ms (0.74-0.79 m at 50 ms) on a plan of
-    # a level 0.775 m, so the walk measured the soft controller's discretization; with kp = 10000 0.762-0.769 m.
+    # a level 0.775 m, so the walk measured the soft controller's discretization; with kp = 10000 (and the
+    # ground_speed swing) 0.758-0.769 m.
     robosimian_walk = ["controller.kp=10000", "controller.kd=10", "controller.gait.swing_profile=ground_speed"]
     rs = [
         ("robosimian_walk_rigid", "RoboSimian", "walk", "rigid", "robosimian_walk_planar.json", robosimian_walk,
@@ -928,7 +929,7 @@ def verdict_distance(A, walks, rows):
       "above was 39 / 165 / 121 / 140 % for ne-pgm, every one falling with dt. Three settings of the evaluation's "
       "walks (not of the scenes) take most of the rest away. (1) Stiff joint gains: RoboSimian K_p = 10000, K_d = 10, "
       "10x DESIGN.md's reference gains (K_p = 1000, K_d = 1, for its 100 kg), with which its trunk bobs between 0.68 "
-      "and 0.82 m at 5 ms (0.74-0.79 m at 50 ms) on a plan of a level 0.775 m, against 0.762-0.769 m at 10x; the "
+      "and 0.82 m at 5 ms (0.74-0.79 m at 50 ms) on a plan of a level 0.775 m, against 0.758-0.769 m at 10x (5 and 50 ms); the "
       "quadruped K_p = 1800, K_d = 3, 10x its mass-scaled default K_p, with which its light legs lag the 0.5 s trot "
       "more the larger the step (held in the air, 0.015 rad RMS at 50 ms against 0.005 rad at 5 ms; at K_p = 1800 "
       "0.0018 and 0.0005 rad). (2) The ground_speed swing (`controller.gait.swing_profile`, control/gait.hpp). The "
