@@ -9,7 +9,11 @@
 //     acceleration (F − μmg)/m above it;
 //  5. with a stiff PD spring on one axis and a 50 ms step, the friction of a sliding block is the
 //     one of largest dissipation at the step's end velocity (the rigid Coulomb law) under the
-//     full-body-pd K, and measurably not under the plain full-body K.
+//     full-body-pd K, and measurably not under the plain full-body K;
+//  6. a foot dropped into sand (the project's RFT-fitted RBF model) comes to rest carrying its
+//     weight, and its resting depth converges at first order as the step shrinks: backward Euler
+//     stops a landing foot early by a fraction of v h, and the sand, which holds any depth that
+//     bears the load, keeps that error as depth.
 // The robots are tests/data/box.urdf (1 kg, 0.2×0.2×0.1 m, centre of mass at the link origin) and
 // tests/data/pendulum.urdf (1 kg point-like bob, l = 1 m, fixed base).
 #include <gtest/gtest.h>
@@ -21,6 +25,7 @@
 #include <cstdio>
 
 #include "contact_models/coulomb_model.hpp"
+#include "contact_models/rbf_model.hpp"
 #include "multibody/crba.hpp"
 #include "multibody/kinematics.hpp"
 #include "solver/integrator.hpp"
@@ -614,6 +619,114 @@ TEST(SlidingUnderPd, FullBodyPdKineticEnergyGivesTheLargestDissipationAtLargeSte
     EXPECT_NEAR(pd.normal, kG, 0.05 * kG);
     EXPECT_LT(std::abs(pd.gap), 1e-3);  // (0 when the solution is the right vertex of the 32)
     EXPECT_GT(full.gap, 1e-2);  // the plain full-body K is another law here (a wrong vertex)
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// 6. A foot landing in sand
+// ---------------------------------------------------------------------------------------------
+
+// A quarter of the quadruped (models/foot/quadruped_foot.urdf, 4.35 kg, planar base) with its 2 cm
+// foot sphere, dropped at 1 m/s from 1 cm above data/granular/rft_quadruped_rbf.h5 (the sand of
+// models/scenes/quadruped_foot_drop_sand.json), for 0.3 s.
+struct SandLanding {
+  double rest_height = 0;    // the sphere centre's, m
+  double rest_speed = 0;     // |q̇| at the end
+  double late_motion = 0;    // the largest |z − z_end| over the last 0.1 s, m
+  double support = 0;        // the contact's vertical force at the end, N
+  double weight = 0;
+  std::string failure;
+};
+
+SandLanding dropFootIntoSand(const char* method, double h) {
+  UrdfOptions urdf;
+  urdf.base = BaseType::Planar;
+  const Model model = loadUrdf(test::sourcePath("models/foot/quadruped_foot.urdf"), urdf);
+  const ConfigContext ctx{"test: contacts.model", test::sourcePath("data/granular")};
+  const std::unique_ptr<ContactModel> sand = makeRbfModel({{"type", "rbf"}, {"file", "rft_quadruped_rbf.h5"}}, ctx);
+  const PlaneTerrain terrain;
+  ContactPoint foot;
+  foot.name = "foot";
+  foot.link = model.linkIndex("foot");
+  foot.radius = 0.02;
+  foot.leg_axis = Vec3::UnitZ();
+  System system;
+  system.model = &model;
+  system.contacts = {foot};
+  system.contact_model = sand.get();
+  system.terrain = &terrain;
+  system.gains = defaultPdGains(model);  // all zero: every coordinate is a base coordinate
+  IntegratorOptions options;
+  setMethod(options, method);
+  options.kinetic_energy = KineticEnergyMeasure::FullBodyPd;
+  const int z = model.dofIndex("base_z");
+  Eigen::VectorXd q0 = Eigen::VectorXd::Zero(model.nq), qd0 = Eigen::VectorXd::Zero(model.nq);
+  q0[z] = foot.radius + 0.01;
+  qd0[z] = -1.0;
+  StepWorkspace ws(system, options);
+  SimulationState state = initialState(system, options, q0, qd0, h);
+  ConstantPdTarget target(Eigen::VectorXd::Zero(model.nq));
+  SandLanding r;
+  r.weight = model.total_mass * kG;
+  const int steps = static_cast<int>(std::lround(0.3 / h)), late = static_cast<int>(std::lround(0.2 / h));
+  std::vector<double> late_heights;
+  for (int i = 0; i < steps; ++i) {
+    const StepStats s = advance(system, options, target, state, h, ws);
+    if (!s.converged) {
+      r.failure = "step " + std::to_string(i) + ": " + toString(s.status);
+      return r;
+    }
+    if (i >= late) late_heights.push_back(state.q[z]);
+  }
+  r.rest_height = state.q[z];
+  for (double zi : late_heights) r.late_motion = std::max(r.late_motion, std::abs(zi - r.rest_height));
+  r.rest_speed = state.qd.norm();
+  r.support = ws.contact_wrench[0][5];
+  return r;
+}
+
+TEST(SandLanding, RestingDepthConvergesAtFirstOrder) {
+  const double steps[] = {0.016, 0.008, 0.004, 0.002, 0.001};
+  std::vector<double> first_heights;
+  for (const char* method : {"ne-pgm", "pbd-pgm", "ne-zopgm"}) {
+    SCOPED_TRACE(method);
+    std::vector<double> heights;
+    for (double h : steps) {
+      SCOPED_TRACE("dt " + std::to_string(h));
+      const SandLanding r = dropFootIntoSand(method, h);
+      ASSERT_TRUE(r.failure.empty()) << r.failure;
+      std::printf("foot dropped into sand %-8s dt %5.1f ms: sphere centre at rest %+.5f m (moving %.1e m/s, "
+                  "%.1e m over the last 0.1 s), support %.3f N (weight %.3f N)\n",
+                  method, 1e3 * h, r.rest_height, r.rest_speed, r.late_motion, r.support, r.weight);
+      // It has stopped (to the solver's tolerance: micrometres a step, landing at 1 m/s) and the
+      // sand alone carries it.
+      EXPECT_LT(r.rest_speed, 1e-3);
+      EXPECT_LT(r.late_motion, 1e-5);
+      EXPECT_NEAR(r.support, r.weight, 1e-3 * r.weight);
+      // Deeper than the 1.5 cm at which the foot's lowest point bears the weight statically
+      // (test_rft_model.cpp): the landing's momentum drives it further in.
+      EXPECT_LT(r.rest_height - 0.02, -0.015);
+      heights.push_back(r.rest_height);
+    }
+    // Each halving of the step sinks the foot deeper, by about half the previous halving's change:
+    // first order (a zeroth-order error would not shrink, a second-order one would shrink by 4).
+    for (size_t i = 0; i + 2 < heights.size(); ++i) {
+      const double coarse = heights[i] - heights[i + 1], fine = heights[i + 1] - heights[i + 2];
+      EXPECT_GT(coarse, 0.0);
+      EXPECT_GT(fine, 0.0);
+      const double ratio = fine / coarse;
+      std::printf("  %-8s %4.1f / %4.1f / %4.1f ms: successive changes %.2e, %.2e m, ratio %.2f\n", method, 1e3 * steps[i],
+                  1e3 * steps[i + 1], 1e3 * steps[i + 2], coarse, fine, ratio);
+      EXPECT_GT(ratio, 0.35);
+      EXPECT_LT(ratio, 0.7);
+    }
+    // The same landing by the other form and by the zeroth-order solver (for a lone body NE and PBD
+    // are the same equations; the zeroth-order PGM reaches the same solution without ∂V/∂θ).
+    if (first_heights.empty()) {
+      first_heights = heights;
+    } else {
+      for (size_t i = 0; i < heights.size(); ++i) EXPECT_NEAR(heights[i], first_heights[i], 2e-4) << "against ne-pgm";
+    }
   }
 }
 
