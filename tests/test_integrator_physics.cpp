@@ -12,10 +12,11 @@
 //     full-body-pd K, and measurably not under the plain full-body K;
 //  6. a foot dropped into sand (the project's RFT-fitted RBF model) comes to rest carrying its
 //     weight, and its resting depth converges at first order as the step shrinks: backward Euler
-//     stops a landing foot early by a fraction of v h, and the sand, which holds any depth that
-//     bears the load, keeps that error as depth.
+//     stops a landing foot early by an amount proportional to v h, and the sand, which holds any
+//     depth that bears the load, keeps that error as depth.
 // The robots are tests/data/box.urdf (1 kg, 0.2×0.2×0.1 m, centre of mass at the link origin) and
-// tests/data/pendulum.urdf (1 kg point-like bob, l = 1 m, fixed base).
+// tests/data/pendulum.urdf (1 kg point-like bob, l = 1 m, fixed base); the foot in sand is
+// models/foot/quadruped_foot.urdf.
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -629,16 +630,16 @@ TEST(SlidingUnderPd, FullBodyPdKineticEnergyGivesTheLargestDissipationAtLargeSte
 // A quarter of the quadruped (models/foot/quadruped_foot.urdf, 4.35 kg, planar base) with its 2 cm
 // foot sphere, dropped at 1 m/s from 1 cm above data/granular/rft_quadruped_rbf.h5 (the sand of
 // models/scenes/quadruped_foot_drop_sand.json), for 0.3 s.
-struct SandLanding {
+struct LandingOutcome {
   double rest_height = 0;    // the sphere centre's, m
-  double rest_speed = 0;     // |q̇| at the end
+  double rest_speed = 0;     // |q̇| at the end, m/s
   double late_motion = 0;    // the largest |z − z_end| over the last 0.1 s, m
   double support = 0;        // the contact's vertical force at the end, N
   double weight = 0;
   std::string failure;
 };
 
-SandLanding dropFootIntoSand(const char* method, double h) {
+LandingOutcome dropFootIntoSand(const char* method, double h) {
   UrdfOptions urdf;
   urdf.base = BaseType::Planar;
   const Model model = loadUrdf(test::sourcePath("models/foot/quadruped_foot.urdf"), urdf);
@@ -666,7 +667,7 @@ SandLanding dropFootIntoSand(const char* method, double h) {
   StepWorkspace ws(system, options);
   SimulationState state = initialState(system, options, q0, qd0, h);
   ConstantPdTarget target(Eigen::VectorXd::Zero(model.nq));
-  SandLanding r;
+  LandingOutcome r;
   r.weight = model.total_mass * kG;
   const int steps = static_cast<int>(std::lround(0.3 / h)), late = static_cast<int>(std::lround(0.2 / h));
   std::vector<double> late_heights;
@@ -693,7 +694,7 @@ TEST(SandLanding, RestingDepthConvergesAtFirstOrder) {
     std::vector<double> heights;
     for (double h : steps) {
       SCOPED_TRACE("dt " + std::to_string(h));
-      const SandLanding r = dropFootIntoSand(method, h);
+      const LandingOutcome r = dropFootIntoSand(method, h);
       ASSERT_TRUE(r.failure.empty()) << r.failure;
       std::printf("foot dropped into sand %-8s dt %5.1f ms: sphere centre at rest %+.5f m (moving %.1e m/s, "
                   "%.1e m over the last 0.1 s), support %.3f N (weight %.3f N)\n",
