@@ -126,7 +126,6 @@ TEST(Scene, MinimalSceneParsesWithEveryDefault) {
 
 // ---- --set -----------------------------------------------------------------------------------------
 
-
 TEST(Scene, TrotSwingProfileParsesAndResolves) {
   SceneFixture f;
   json s = f.scene;
@@ -142,6 +141,7 @@ TEST(Scene, TrotSwingProfileParsesAndResolves) {
   EXPECT_EQ(again.gait.trot.swing_profile, SwingProfile::GroundSpeed);
   EXPECT_EQ(again.gait.trot.ground_speed_share, 0.25);
 }
+
 TEST(Scene, OverridesNumbersBoolsStringsNewKeysArrays) {
   SceneFixture f;
   f.dir.write("sand.h5", "");  // only its existence is checked here
