@@ -971,7 +971,7 @@ def verdict_distance(A, walks, rows):
       "the sand (per stance -8 / -4 / +11 / +28 mm at 1 / 5 / 25 / 50 ms: at small steps they go back under the "
       "push-off, at 50 ms they hardly do), and the deeper feet carry a higher peak load (679 / 879 N at 1 / 50 ms) in "
       "sand that holds more along x the deeper it is. It is not the published model's edge (its data stop at 7 cm, "
-      "and the same model made 1.5x or 2x stronger, feet 1-2 cm shallower, still spreads 8.3 / 8.6 %), nor the "
+      "and the same model made 1.5x or 2x stronger, feet 1.2-2.6 cm shallower, still spreads 8.3 / 8.6 %), nor the "
       "gait's timing (duty factor 0.6 / 0.7: 10.8 / 10.4 %; the quadruped with a 1 s trot period: 6.4 / 6.0 % on "
       "sand) (docs/INTEGRATOR.md, 'Where the extra distance comes from'). (RoboSimian walks 14 % "
       "further than its plan on the rigid floor: its trot leaves the third joint of its planar legs "
