@@ -215,7 +215,7 @@ TEST(Scene, EveryBadInputHasAnActionableMessage) {
       {"duration zero", [](json& s) { s["duration"] = 0; }, {"duration: must be > 0, got 0"}},
       {"duty factor", [](json& s) { s["controller"]["gait"]["duty_factor"] = 1; }, {"controller.gait.duty_factor: must be in (0, 1)"}},
       {"swing profile", [](json& s) { s["controller"]["gait"]["swing_profile"] = "ground"; },
-       {"controller.gait.swing_profile: unknown value 'ground'", "valid: cosine, ground_speed"}},
+       {"controller.gait.swing_profile: unknown swing profile 'ground'", "valid: cosine, ground_speed"}},
       {"ground speed share", [](json& s) { s["controller"]["gait"]["ground_speed_share"] = 1; },
        {"controller.gait.ground_speed_share: must be in [0, 1)"}},
       {"missing urdf key", [](json& s) { s["robot"].erase("urdf"); }, {"scene.json: robot: missing required key 'urdf'"}},

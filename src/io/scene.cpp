@@ -465,8 +465,8 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
         const std::string profile = readStr(in, "swing_profile", swingProfileName(g.trot.swing_profile), w);
         try {
           g.trot.swing_profile = parseSwingProfile(profile);
-        } catch (const std::invalid_argument&) {
-          (w / "swing_profile").fail("unknown value '" + profile + "'; valid: cosine, ground_speed");
+        } catch (const std::invalid_argument& e) {
+          (w / "swing_profile").fail(e.what());  // names the valid profiles
         }
       }
       g.trot.ground_speed_share = number(in, "ground_speed_share", g.trot.ground_speed_share, w, atLeast(0), below(1));
