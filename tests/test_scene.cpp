@@ -142,6 +142,25 @@ TEST(Scene, TrotSwingProfileParsesAndResolves) {
   EXPECT_EQ(again.gait.trot.ground_speed_share, 0.25);
 }
 
+TEST(Scene, TrotStartRampParsesAndResolves) {
+  SceneFixture f;
+  EXPECT_EQ(f.parse(f.scene).resolved.at("controller").at("gait").at("start_ramp"), 0.0);
+  json s = f.scene;
+  applyOverride(s, "controller.gait.start_ramp=0.5", f.scene_path);
+  const SceneConfig c = f.parse(s);
+  EXPECT_EQ(c.gait.trot.start_ramp, 0.5);
+  EXPECT_EQ(c.resolved.at("controller").at("gait").at("start_ramp"), 0.5);
+  EXPECT_EQ(f.parse(c.resolved).gait.trot.start_ramp, 0.5);
+  // The robot starts in its standing pose, and so do the ramped targets.
+  const Model model = f.model(c);
+  PdTarget target{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
+  gaitFor(c, model)->evaluate(0.0, target);
+  const Eigen::VectorXd q0 = initialConfiguration(c, model);
+  for (int i = 0; i < model.nq; ++i)
+    if (!model.bodies[i].is_base) EXPECT_NEAR(target.position[i], q0[i], 1e-12) << model.bodies[i].name;
+  EXPECT_LT(target.velocity.norm(), 1e-12);
+}
+
 TEST(Scene, OverridesNumbersBoolsStringsNewKeysArrays) {
   SceneFixture f;
   f.dir.write("sand.h5", "");  // only its existence is checked here
@@ -218,6 +237,8 @@ TEST(Scene, EveryBadInputHasAnActionableMessage) {
        {"controller.gait.swing_profile: unknown swing profile 'ground'", "valid: cosine, ground_speed"}},
       {"ground speed share", [](json& s) { s["controller"]["gait"]["ground_speed_share"] = 1; },
        {"controller.gait.ground_speed_share: must be in [0, 1)"}},
+      {"start ramp", [](json& s) { s["controller"]["gait"]["start_ramp"] = -0.5; },
+       {"controller.gait.start_ramp: must be >= 0, got -0.5"}},
       {"missing urdf key", [](json& s) { s["robot"].erase("urdf"); }, {"scene.json: robot: missing required key 'urdf'"}},
       {"missing robot", [](json& s) { s.erase("robot"); }, {"missing required key 'robot'"}},
       {"missing urdf file", [](json& s) { s["robot"]["urdf"] = "robots/nope.urdf"; }, {"robot.urdf: file not found", "robots/nope.urdf"}},

@@ -1,5 +1,7 @@
 #include "control/gait.hpp"
 
+#include "control/start_ramp.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <sstream>
@@ -351,7 +353,13 @@ KeyframePdTarget makeJumpTarget(const Model& model, const JumpParameters& jump_i
 std::unique_ptr<PdTargetSource> makeGaitTarget(const Model& model, const GaitParameters& gait) {
   switch (gait.type) {
     case GaitType::Stand: return std::make_unique<KeyframePdTarget>(makeStandTarget(model, gait.stand));
-    case GaitType::Trot: return std::make_unique<KeyframePdTarget>(makeTrotTarget(model, gait.trot, gait.stand));
+    case GaitType::Trot: {
+      auto trot = std::make_unique<KeyframePdTarget>(makeTrotTarget(model, gait.trot, gait.stand));
+      requireNonNegative(gait.trot.start_ramp, "trot.start_ramp");
+      if (gait.trot.start_ramp == 0) return trot;
+      return std::make_unique<StartRampPdTarget>(std::move(trot), gaitContext(model, gait.stand).pose.q,
+                                                 gait.trot.start_ramp);
+    }
     case GaitType::Jump: return std::make_unique<KeyframePdTarget>(makeJumpTarget(model, gait.jump, gait.stand));
   }
   fail("unknown gait type");

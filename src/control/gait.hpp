@@ -58,6 +58,9 @@ struct TrotParameters {
   // [0, 1). 0.15 starts it at about a fifth of the step height (z = h (1 − cos 2πs)/2).
   double ground_speed_share = 0.15;
   int keyframes_per_period = 16;        // IK keyframes (at least); phase events are always keyframes
+  // s over which the targets blend in from the standing pose (control/start_ramp.hpp); 0: none,
+  // the targets start half a stride away from the standing pose. makeGaitTarget only.
+  double start_ramp = 0.0;
 };
 
 struct JumpParameters {
@@ -111,6 +114,7 @@ double trotLegPhase(const TrotParameters& resolved, LegId leg, double t);
 KeyframePdTarget makeStandTarget(const Model& model, const StandParameters& stand = {});
 KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot = {}, const StandParameters& stand = {});
 KeyframePdTarget makeJumpTarget(const Model& model, const JumpParameters& jump = {}, const StandParameters& stand = {});
+// The gait's targets; a trot with start_ramp > 0 blends in from the standing pose.
 std::unique_ptr<PdTargetSource> makeGaitTarget(const Model& model, const GaitParameters& gait);
 
 }  // namespace nmdp

@@ -219,7 +219,8 @@ const std::vector<std::string> kGaitTypes = {"stand", "trot", "jump", "keyframes
 const std::vector<std::string>& gaitKeys(SceneGaitType type) {
   static const std::vector<std::string> stand = {"type", "height"};
   static const std::vector<std::string> trot = {"type",   "height",      "stride_length", "step_height",
-                                                 "period", "duty_factor", "swing_profile", "ground_speed_share"};
+                                                 "period", "duty_factor", "swing_profile", "ground_speed_share",
+                                                 "start_ramp"};
   static const std::vector<std::string> jump = {"type", "height", "crouch_depth", "push_off_height", "period", "pause"};
   static const std::vector<std::string> keyframes = {"type", "height", "file", "cyclic", "period"};
   switch (type) {
@@ -470,12 +471,14 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
         }
       }
       g.trot.ground_speed_share = number(in, "ground_speed_share", g.trot.ground_speed_share, w, atLeast(0), below(1));
+      g.trot.start_ramp = number(in, "start_ramp", g.trot.start_ramp, w, atLeast(0));
       if (g.trot.stride_length) out["stride_length"] = *g.trot.stride_length;
       if (g.trot.step_height) out["step_height"] = *g.trot.step_height;
       out["period"] = g.trot.period;
       out["duty_factor"] = g.trot.duty_factor;
       out["swing_profile"] = swingProfileName(g.trot.swing_profile);
       out["ground_speed_share"] = g.trot.ground_speed_share;
+      out["start_ramp"] = g.trot.start_ramp;
       break;
     case SceneGaitType::Jump:
       g.type = GaitType::Jump;

@@ -42,7 +42,8 @@
 //                    stand:     height
 //                    trot:      height, stride_length, step_height, period (0.5), duty_factor (0.5),
 //                               swing_profile: "cosine" | "ground_speed" (cosine),
-//                               ground_speed_share (0.15, in [0, 1); ground_speed only)
+//                               ground_speed_share (0.15, in [0, 1); ground_speed only),
+//                               start_ramp (0 s: none; control/start_ramp.hpp)
 //                    jump:      height, crouch_depth, push_off_height (> height), period (2), pause (0.4)
 //                    keyframes: height, file (required, must exist), cyclic (false), period}}
 //                  Unset sizes default to the robot (control/gait.hpp).
