@@ -76,7 +76,8 @@ TEST(StartRamp, VelocityIsTheTimeDerivative) {
     }
     const double tolerance = 1e-7 * std::max(1.0, fd.cwiseAbs().maxCoeff()) + kStep * curvature;
     EXPECT_LT((at(ramp, t).velocity - fd).cwiseAbs().maxCoeff(), tolerance)
-        << "t = " << t << "\nvelocity " << at(ramp, t).velocity.transpose() << "\ncentral difference " << fd.transpose();
+        << "t = " << t << "\nvelocity " << at(ramp, t).velocity.transpose()
+        << "\ncentral difference " << fd.transpose();
   }
 }
 

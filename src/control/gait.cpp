@@ -1,12 +1,12 @@
 #include "control/gait.hpp"
 
-#include "control/start_ramp.hpp"
-
 #include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
 #include <vector>
+
+#include "control/start_ramp.hpp"
 
 namespace nmdp {
 
@@ -354,8 +354,8 @@ std::unique_ptr<PdTargetSource> makeGaitTarget(const Model& model, const GaitPar
   switch (gait.type) {
     case GaitType::Stand: return std::make_unique<KeyframePdTarget>(makeStandTarget(model, gait.stand));
     case GaitType::Trot: {
-      auto trot = std::make_unique<KeyframePdTarget>(makeTrotTarget(model, gait.trot, gait.stand));
       requireNonNegative(gait.trot.start_ramp, "trot.start_ramp");
+      auto trot = std::make_unique<KeyframePdTarget>(makeTrotTarget(model, gait.trot, gait.stand));
       if (gait.trot.start_ramp == 0) return trot;
       return std::make_unique<StartRampPdTarget>(std::move(trot), gaitContext(model, gait.stand).pose.q,
                                                  gait.trot.start_ramp);

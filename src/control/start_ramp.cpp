@@ -1,5 +1,6 @@
 #include "control/start_ramp.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -12,7 +13,8 @@ constexpr double kPi = 3.14159265358979323846;
 StartRampPdTarget::StartRampPdTarget(std::unique_ptr<PdTargetSource> gait, Eigen::VectorXd start, double duration)
     : gait_(std::move(gait)), start_(std::move(start)), duration_(duration) {
   if (!gait_) throw std::invalid_argument("start ramp: no gait to ramp in");
-  if (!(std::isfinite(duration_) && duration_ > 0)) throw std::invalid_argument("start ramp: duration must be positive and finite");
+  if (!(std::isfinite(duration_) && duration_ > 0))
+    throw std::invalid_argument("start ramp: duration must be positive and finite");
   if (!start_.allFinite()) throw std::invalid_argument("start ramp: the start pose has a non-finite entry");
 }
 
