@@ -156,8 +156,11 @@ TEST(Scene, TrotStartRampParsesAndResolves) {
   PdTarget target{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
   gaitFor(c, model)->evaluate(0.0, target);
   const Eigen::VectorXd q0 = initialConfiguration(c, model);
-  for (int i = 0; i < model.nq; ++i)
-    if (!model.bodies[i].is_base) EXPECT_NEAR(target.position[i], q0[i], 1e-12) << model.bodies[i].name;
+  for (int i = 0; i < model.nq; ++i) {
+    if (!model.bodies[i].is_base) {
+      EXPECT_NEAR(target.position[i], q0[i], 1e-12) << model.bodies[i].name;
+    }
+  }
   EXPECT_LT(target.velocity.norm(), 1e-12);
 }
 
