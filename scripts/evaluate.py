@@ -66,6 +66,13 @@ TILT_MAX = 0.5  # rad, about 29 degrees
 ROBOSIMIAN_SAND = {"type": "rbf", "file": "../../../shared/granular/robosimian_sand_rbf"}
 
 
+def start_ramp(scene):
+    """--set for a start ramp of one trot period of SCENE (control/gait.hpp's default period: 0.5 s)."""
+    with open(os.path.join(SCENES, scene)) as f:
+        period = json.load(f)["controller"]["gait"].get("period", 0.5)
+    return f"controller.gait.start_ramp={period:g}"
+
+
 def cases():
     """(id, robot, gait, ground, scene file, extra --set list, needs ../shared, description)."""
     # The walks' swing: the ground_speed profile (control/gait.hpp), whose feet leave and land at rest on the ground.
@@ -82,7 +89,7 @@ def cases():
     # quadruped's flat walk lost 7 cm in its first second at 50 ms (0.39 m against 0.46 m at 5 ms) and then kept
     # the pace of the other runs, which was most of its 5.1 % spread.
     robosimian_walk = ["controller.kp=10000", "controller.kd=10", "controller.gait.swing_profile=ground_speed",
-                       "controller.gait.start_ramp=1"]
+                       start_ramp("robosimian_walk_planar.json")]
     rs = [
         ("robosimian_walk_rigid", "RoboSimian", "walk", "rigid", "robosimian_walk_planar.json", robosimian_walk,
          "planar base, trot with period 1 s, Coulomb cone (mu from the scene default); joint gains kp = 10000, "
@@ -114,14 +121,14 @@ def cases():
         # base also rolled over, pbd-pgm at 45 ms.)
         ("quadruped_walk_rigid", "quadruped", "walk", "rigid", "quadruped_trot_flat.json",
          ["robot.base=planar", "controller.kp=1800", "controller.kd=3", "controller.gait.swing_profile=ground_speed",
-          "controller.gait.start_ramp=0.5"],
+          start_ramp("quadruped_trot_flat.json")],
          "planar base (the scene's is floating: the open-loop trot turned on it by up to 1.2 rad, so its forward "
          "distance measured the turn), trot, Coulomb cone, joint gains kp = 1800, kd = 3 (the scene's default gains "
          "lag the trot more the larger the step, and tip over at 1 ms), and the ground_speed swing and one period's "
          "start ramp as RoboSimian's"),
         ("quadruped_walk_sand", "quadruped", "walk", "granular", "quadruped_trot_sand.json",
          ["controller.kp=1800", "controller.kd=3", "controller.gait.swing_profile=ground_speed",
-          "controller.gait.start_ramp=0.5"],
+          start_ramp("quadruped_trot_sand.json")],
          f"planar base, trot with 12 cm steps and 15 cm strides, the demo scene's RBF sand model ({sand_file}), "
          "joint gains kp = 1800, kd = 3, the ground_speed swing and the start ramp as above"),
         ("quadruped_jump_rigid", "quadruped", "jump", "rigid", "quadruped_jump_flat.json", [],
