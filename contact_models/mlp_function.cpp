@@ -12,7 +12,7 @@
 #include <stdexcept>
 
 #include "io/hdf5_file.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

@@ -2,7 +2,7 @@
 
 #include "contact_models/mlp_function.hpp"
 #include "contact_models/planar_wrench_model.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

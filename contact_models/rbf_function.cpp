@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "io/hdf5_file.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

@@ -6,7 +6,7 @@
 
 #include "contact_models/planar_wrench_model.hpp"
 #include "contact_models/rbf_function.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

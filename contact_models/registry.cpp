@@ -3,7 +3,7 @@
 #include "contact_models/coulomb_model.hpp"
 #include "contact_models/mlp_model.hpp"
 #include "contact_models/rbf_model.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

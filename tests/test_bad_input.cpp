@@ -5,7 +5,7 @@
 #include <optional>
 #include <regex>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "test_cli.hpp"
 #include "test_support.hpp"
 

@@ -17,7 +17,7 @@
 #include "contact_models/registry.hpp"
 #include "contact_models/rbf_function.hpp"
 #include "io/hdf5_file.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "terrain/plane.hpp"
 #include "test_cli.hpp"
 #include "test_support.hpp"

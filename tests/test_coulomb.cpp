@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "contact_models/coulomb_model.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
 

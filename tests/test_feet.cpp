@@ -6,7 +6,7 @@
 #include <nlohmann/json.hpp>
 #include <sstream>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/stl_mesh.hpp"

@@ -18,7 +18,7 @@
 #include "contact_models/mlp_model.hpp"
 #include "contact_models/planar_wrench_model.hpp"
 #include "io/hdf5_file.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
 #include "test_temp_dir.hpp"

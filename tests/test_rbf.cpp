@@ -19,7 +19,7 @@
 #include "contact_models/rbf_function.hpp"
 #include "contact_models/rbf_model.hpp"
 #include "io/hdf5_file.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
 

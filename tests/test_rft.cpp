@@ -10,7 +10,7 @@
 #include <cmath>
 #include <nlohmann/json.hpp>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "test_cli.hpp"
 #include "training/force_dataset.hpp"
 #include "training/rft.hpp"

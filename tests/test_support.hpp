@@ -8,7 +8,7 @@
 #include <random>
 #include <string>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "multibody/data.hpp"
 #include "multibody/urdf_loader.hpp"
 

@@ -13,7 +13,7 @@
 #include <cstdlib>
 #include <sstream>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/plane.hpp"
 #include "terrain/procedural.hpp"

@@ -7,7 +7,7 @@
 #include <regex>
 #include <sstream>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "multibody/crba.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/rnea.hpp"

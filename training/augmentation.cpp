@@ -7,7 +7,7 @@
 #include <stdexcept>
 #include <utility>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

@@ -5,7 +5,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

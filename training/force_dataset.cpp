@@ -9,7 +9,7 @@
 #include <utility>
 
 #include "io/hdf5_file.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

@@ -14,7 +14,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "contact_models/rbf_function.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "training/fit_config.hpp"
 #include "training/rbf_fit.hpp"
 

@@ -8,7 +8,7 @@
 #include <stdexcept>
 
 #include "io/hdf5_file.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "io/json_params.hpp"
 
 namespace nmdp {

@@ -7,7 +7,7 @@
 #include <system_error>
 #include <vector>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

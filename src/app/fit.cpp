@@ -8,7 +8,7 @@
 
 #include "app/commands.hpp"
 #include "app/progress_bar.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "io/json_params.hpp"
 #include "training/fit_config.hpp"
 #include "training/force_dataset.hpp"

@@ -4,7 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "training/force_dataset.hpp"
 #include "training/rft.hpp"
 #include "training/rft_config.hpp"

@@ -2,7 +2,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "multibody/feet.hpp"
 #include "multibody/urdf_loader.hpp"
 #include "solver/contact_kinematics.hpp"

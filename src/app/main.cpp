@@ -2,7 +2,7 @@
 #include <iostream>
 
 #include "app/commands.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace {
 

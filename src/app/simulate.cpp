@@ -14,7 +14,7 @@
 #include "app/commands.hpp"
 #include "app/progress_bar.hpp"
 #include "contact_models/registry.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "io/scene.hpp"
 #include "io/trajectory_writer.hpp"
 #include "multibody/kinematics.hpp"

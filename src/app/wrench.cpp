@@ -6,7 +6,7 @@
 
 #include "app/commands.hpp"
 #include "contact_models/registry.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "terrain/terrain_factory.hpp"
 
 namespace nmdp::app {

@@ -4,7 +4,7 @@
 #include <filesystem>
 
 #include "io/hdf5_handle.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp::h5 {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <filesystem>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

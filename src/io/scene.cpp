@@ -12,7 +12,7 @@
 
 #include "control/hermite_spline.hpp"
 #include "control/leg_ik.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "io/json_params.hpp"
 #include "multibody/data.hpp"
 #include "multibody/feet.hpp"

@@ -9,7 +9,7 @@
 #include <stdexcept>
 
 #include "io/hdf5_handle.hpp"
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

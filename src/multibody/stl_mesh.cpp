@@ -8,7 +8,7 @@
 #include <iterator>
 #include <sstream>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

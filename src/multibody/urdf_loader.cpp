@@ -11,7 +11,7 @@
 #include <sstream>
 #include <urdf_parser/urdf_parser.h>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "multibody/crba.hpp"
 #include "multibody/data.hpp"
 

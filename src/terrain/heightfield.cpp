@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string_view>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 
 namespace nmdp {
 

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <sstream>
 
-#include "io/input_error.hpp"
+#include "common/input_error.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/plane.hpp"
 #include "terrain/procedural.hpp"
