@@ -1,0 +1,45 @@
+// The largest inputs nmdp accepts, in one place. Each bound is far above any real robot, dataset or
+// model (the note beside it gives the real sizes it is compared with) and far below what would
+// exhaust memory or time, so a malformed or hostile file gets a message naming the limit instead
+// of a crash, a hang or an allocation of gigabytes. Messages name the file, the field and the limit.
+#pragma once
+#include <cstdint>
+
+namespace nmdp::limits {
+
+// Text inputs read whole (scene, URDF, CSV, keyframes, RBF text, configuration): the largest real
+// one is the RoboSimian URDF, about 60 kB; the sand samples are 40 kB.
+constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{256} << 20;  // 256 MiB
+// Mesh files read for foot detection (binary STL: 50 bytes a triangle): real feet are < 10 MB.
+constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t{512} << 20;  // 512 MiB
+
+// Nesting of JSON objects/arrays and of XML elements: real scenes nest 5 deep, URDFs 4.
+constexpr int kMaxJsonDepth = 64;
+constexpr int kMaxXmlDepth = 64;
+// Characters of a path: PATH_MAX on Linux.
+constexpr std::size_t kMaxPathLength = 4096;
+
+// Robot descriptions: A1 has 18 links, RoboSimian 60; humanoids with hands about 100.
+constexpr int kMaxLinks = 1000;
+constexpr int kMaxJoints = 1000;
+// Contact points of a scene (each a foot sphere; a legged robot has 4-8, a foot polygon 4 more each).
+constexpr int kMaxContactPoints = 64;
+// Wrench-space vertices of one contact (the sand models have 26, the Coulomb cone 6).
+constexpr int kMaxVertices = 256;
+
+// Heightfield cells (a 4096 x 4096 grid: 128 MiB of doubles).
+constexpr std::int64_t kMaxHeightfieldCells = std::int64_t{1} << 24;
+// RBF centres (the published sand model has 103; a fit builds a dense P x P system, 800 MB at 10^4).
+constexpr std::int64_t kMaxRbfCentres = 10000;
+// Entries of one numeric array read from an HDF5 file (model weights, dataset columns): 10^8
+// doubles is 800 MB; the sand MLP has 2 x 10^4 weights.
+constexpr std::int64_t kMaxArrayEntries = std::int64_t{100} << 20;
+// Force samples of one dataset (the sand data has 494, gen-rft's default 520).
+constexpr std::int64_t kMaxForceSamples = std::int64_t{10} << 20;
+
+// Steps of one run: every step index and row count stays exactly representable in a double
+// (2^53) with room, and a step counter never overflows. A run this long is stopped by the disk
+// long before (each row holds at least 100 bytes).
+constexpr double kMaxSteps = 1e15;
+
+}  // namespace nmdp::limits
