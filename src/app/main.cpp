@@ -1,8 +1,10 @@
 #include <cstring>
+#include <filesystem>
 #include <iostream>
 
 #include "app/commands.hpp"
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
 
 namespace {
 
@@ -53,6 +55,12 @@ int main(int argc, char** argv) {
     } catch (const nmdp::InputError& e) {
       std::cerr << "nmdp " << c.name << ": error: " << e.what() << "\n";
       return 1;
+    } catch (const std::filesystem::filesystem_error& e) {  // a path the system refused (readers check theirs first)
+      std::cerr << "nmdp " << c.name << ": error: " << nmdp::displayPath(e.path1().string()) << ": " << e.code().message() << "\n";
+      return 1;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "nmdp " << c.name << ": internal error: out of memory\n";
+      return 3;
     } catch (const std::exception& e) {
       std::cerr << "nmdp " << c.name << ": internal error: " << e.what() << "\n";
       return 3;
