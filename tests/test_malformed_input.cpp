@@ -173,6 +173,19 @@ TEST(MalformedScene, NumbersBeyondADoubleInSetAreInputErrors) {
   expectInputError({"simulate", scene, "--set", "controller.kp=-1e400"}, dir, {"--set controller.kp=-1e400", "number overflow"});
 }
 
+TEST(MalformedScene, MessagesStayOneReadableLine) {
+  const TempDir dir;
+  // An unknown key with a newline and a control character in it, echoed in the message.
+  const std::string scene = dir.write("keys.json", "{\"robot\": {\"urdf\": \"x.urdf\"}, \"dura\\ntion\\u0007\": 1}");
+  expectInputError({"simulate", scene}, dir, {scene, "dura\\x0ation\\x07", "unknown key"});
+  // An unknown key of 100 000 characters: the message is cut to a readable length.
+  const std::string long_key = dir.write("long.json", "{\"" + std::string(100000, 'k') + "\": 1}");
+  const CliResult r = runBounded({"simulate", long_key}, dir);
+  EXPECT_EQ(r.exit_code, 1);
+  EXPECT_LT(r.err.size(), 4200u);
+  expectInputError({"simulate", dir.write("twice.json", "{\"duration\": 1, \"duration\": 2}")}, dir, {"\"duration\" appears twice"});
+}
+
 TEST(MalformedScene, TenThousandContactPointsAreRefused) {
   const TempDir dir;
   json points = json::array();

@@ -39,9 +39,13 @@ std::string join(const std::vector<std::string>& items) {
 }  // namespace
 
 std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+  // Edit distance is quadratic: names longer than any real key or joint get no suggestion.
+  constexpr size_t kLongest = 256;
   std::string best;
+  if (word.size() > kLongest) return best;
   size_t best_distance = std::max<size_t>(3, word.size() / 2) + 1;
   for (const std::string& c : candidates) {
+    if (c.size() > kLongest) continue;
     const size_t d = editDistance(word, c);
     if (d < best_distance) {
       best_distance = d;
