@@ -385,6 +385,12 @@ void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
 
 void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                                   Eigen::MatrixXd* dW_dbeta) const {
+  // One direction is computed as both and the other dropped: the stacked batch then has the same
+  // shape (so the BLAS the same kernels) whichever derivatives are asked for, and dW/dφ alone is
+  // dW/dφ of the pair bit for bit. PlanarWrenchModel always asks for both.
+  Eigen::MatrixXd dropped;
+  if (dW_dphi && !dW_dbeta) dW_dbeta = &dropped;
+  if (dW_dbeta && !dW_dphi) dW_dphi = &dropped;
   const Eigen::Index B = features.rows();
   const Eigen::Index O = 3 * vertexCount();
   W.resize(B, O);
@@ -392,7 +398,7 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   if (dW_dbeta) dW_dbeta->resize(B, O);
   if (B == 0) return;
 
-  // The requested directions (0 = φ, 1 = β); the batch is stacked once per direction.
+  // The directions (0 = φ, 1 = β; none or both); the batch is stacked once per direction.
   Eigen::MatrixXd* outputs[2] = {dW_dphi, dW_dbeta};
   int directions[2], D = 0;
   for (int d = 0; d < 2; ++d)
@@ -439,7 +445,7 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   const torch::Tensor seed_t = torch::from_blob(seed.data(), {R, 3}, options);
 
   if (jacobian_ == MlpJacobian::Tangents) {
-    // Values on B rows exactly as in the value-only pass; the D·B tangent rows through the same
+    // Values on B rows exactly as in the value-only pass; the 2B tangent rows through the same
     // weights: dz = dh A_iᵀ, dh' = σ'(z) ⊙ dz (σ'(z) broadcast over the D direction blocks).
     torch::NoGradGuard no_grad;
     torch::Tensor h = input.slice(0, 0, B), T = seed_t;
