@@ -110,7 +110,7 @@ TEST(MalformedUrdf, JointsFormingACycleUnderTheRootAreRefused) {
   const std::string apart = dir.write("apart.urdf", "<?xml version=\"1.0\"?>\n<robot name=\"apart\">\n" + linkXml("base") +
                                                          linkXml("a") + linkXml("b") + jointXml("j1", "a", "b") +
                                                          jointXml("j2", "b", "a") + "</robot>\n");
-  expectInputError({"inspect", apart}, dir, {apart});
+  expectInputError({"inspect", apart}, dir, {apart, "the joints form a cycle", "'a' <- 'b'"});
 }
 
 TEST(MalformedUrdf, ChainsBeyondTheLinkLimitAreRefusedAndChainsWithinItLoad) {
