@@ -3,6 +3,8 @@
 // model and samples), into OUT_DIR/<target>/, plus a libFuzzer dictionary OUT_DIR/<target>.dict of
 // the JSON keys and string values the seeds use. Nothing is copied into the repository: the corpora
 // are rebuilt from the files in place before every campaign and every replay.
+#include <cctype>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -42,6 +44,25 @@ std::vector<fs::path> filesIn(const fs::path& dir, const std::string& suffix, st
   return out;
 }
 
+// A libFuzzer dictionary line: "word" with \\, \" and \xHH escapes.
+std::string dictionaryEntry(const std::string& word) {
+  std::string out = "\"";
+  for (const char c : word) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (u >= 0x20 && u < 0x7f) {
+      out += c;
+    } else {
+      char hex[8];
+      std::snprintf(hex, sizeof hex, "\\x%02X", u);
+      out += hex;
+    }
+  }
+  return out + "\"";
+}
+
 class Corpus {
  public:
   Corpus(const fs::path& root, const std::string& target) : dir_(root / target), dict_(root / (target + ".dict")) {
@@ -50,13 +71,30 @@ class Corpus {
   }
   ~Corpus() {
     std::ofstream out(dict_);
-    for (const std::string& w : words_) out << nlohmann::json(w).dump() << "\n";
+    for (const std::string& w : words_) out << dictionaryEntry(w) << "\n";
   }
   void add(const std::string& content, bool json_words = false) {
     std::ofstream(dir_ / ("seed_" + std::to_string(count_++)), std::ios::binary) << content;
     if (json_words) collectWords(content);
   }
   size_t size() const { return count_; }
+  // Words libFuzzer inserts whole: the names a format is made of.
+  void words(const std::vector<std::string>& list) {
+    for (const std::string& w : list) words_.insert(w);
+  }
+  // The element and attribute names of an XML text ("<joint", "type=").
+  void xmlWords(const std::string& text) {
+    for (size_t i = 0; (i = text.find('<', i)) != std::string::npos; ++i) {
+      size_t end = i + 1;
+      while (end < text.size() && (std::isalnum(static_cast<unsigned char>(text[end])) || text[end] == '_')) ++end;
+      if (end > i + 1 && end - i < 30) words_.insert(text.substr(i, end - i));
+    }
+    for (size_t i = 0; (i = text.find("=\"", i)) != std::string::npos; ++i) {
+      size_t start = i;
+      while (start > 0 && (std::isalnum(static_cast<unsigned char>(text[start - 1])) || text[start - 1] == '_')) --start;
+      if (start < i && i - start < 30) words_.insert(text.substr(start, i - start + 2));
+    }
+  }
 
  private:
   void collectWords(const std::string& text) {
@@ -112,24 +150,29 @@ int main(int argc, char** argv) {
   }
   {
     Corpus c(root, "urdf");
-    for (const fs::path& p : filesIn(source("models"), ".urdf")) c.add(read(p));
-    for (const fs::path& p : filesIn(source("tests/data"), ".urdf")) c.add(read(p));
-    for (const fs::path& p : filesIn(shared / "robots", ".urdf")) c.add(read(p));
+    for (const fs::path& dir : {fs::path(source("models")), fs::path(source("tests/data")), shared / "robots"})
+      for (const fs::path& p : filesIn(dir, ".urdf")) {
+        c.add(read(p));
+        c.xmlWords(read(p));
+      }
   }
   {
     Corpus c(root, "stl");
+    c.words({"solid", "facet normal", "outer loop", "vertex", "endloop", "endfacet", "endsolid"});
     c.add("solid foot\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid foot\n");
     for (const fs::path& p : filesIn(shared / "robots", ".stl", 200000)) c.add(read(p));
     for (const fs::path& p : filesIn(shared / "robots", ".STL", 200000)) c.add(read(p));
   }
   {
     Corpus c(root, "rbf_text");
+    c.words({"\n@@\n", "nan", "inf", "1e308", "#"});
     const fs::path published = shared / "granular" / "robosimian_sand_rbf";
     if (fs::exists(published / "inputs.txt")) c.add(joined({read(published / "inputs.txt"), read(published / "weights.txt")}));
     c.add(joined({"-0.01 0\n-0.03 0.3\n0.05 0\n", "1 2 3\n4 5 6\n7 8 9\n"}));
   }
   {
     Corpus c(root, "model_h5");
+    c.words({"group ", "attr ", "dset ", " f64 ", " f32 ", " i64 ", " i32 ", " u8 ", " str ", " fstr ", "nan", "inf", "1e308"});
     for (const fs::path& p : filesIn(source("data"), ".h5")) c.add(nmdp::fuzz::hdf5ToText(p.string()));
     // A small MLP of each envelope, written by the program's own writer.
     nmdp::PlanarGeometry geometry;
@@ -145,23 +188,27 @@ int main(int argc, char** argv) {
   }
   {
     Corpus c(root, "dataset_h5");
+    c.words({"group ", "attr ", "dset ", " f64 ", " f32 ", " i64 ", " i32 ", " u8 ", " str ", " fstr ", "nan", "inf", "1e308"});
     const std::string file = (scratch / "data.h5").string();
     nmdp::writeForceDataset(file, nmdp::importSandSamplesCsv(source("data/granular/rft_quadruped_samples")));
     c.add(nmdp::fuzz::hdf5ToText(file));
   }
   {
     Corpus c(root, "force_csv");
+    c.words({"depth,theta", "depth,theta,vel_index,fx,fz,wy", "Nvel ", "Ntheta ", "cT ", "\n@@\n", "nan", "inf", "1e308"});
     for (const fs::path& dir : {fs::path(source("data/granular/rft_quadruped_samples")), shared / "granular" / "sand_samples"})
       if (fs::exists(dir / "features.csv"))
         c.add(joined({read(dir / "features.csv"), read(dir / "wrench_samples.csv"), read(dir / "scalars.txt")}));
   }
   {
     Corpus c(root, "heightfield_csv");
+    c.words({"nan", "inf", "1e308", "#", ","});
     for (const fs::path& p : filesIn(source("models/terrain"), ".csv")) c.add(read(p));
     c.add("# heights, m\n0, 0.01\n0.02, 0.03\n");
   }
   {
     Corpus c(root, "keyframes");
+    c.words({"time,", "FL_knee_joint", "FR_hip_joint", "\"times\"", "\"joints\"", "nan", "1e308"});
     c.add("time,FL_knee_joint,FR_knee_joint\n0,-1.2,-1.2\n0.5,-1.5,-1.0\n1,-1.2,-1.2\n");
     c.add("{\"times\": [0, 0.5, 1], \"joints\": {\"FL_knee_joint\": [-1.2, -1.5, -1.2], \"FL_hip_joint\": [0, 0.1, 0]}}", true);
   }

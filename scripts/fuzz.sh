@@ -1,20 +1,22 @@
 #!/usr/bin/env bash
 # Runs every libFuzzer target (fuzz/) for SECONDS each, from the seed corpora made from models/,
 # data/ and ../shared plus the inputs kept in fuzz/regressions/, in a clang build with
-# AddressSanitizer and UndefinedBehaviorSanitizer (build-fuzz/, configured here if needed).
+# AddressSanitizer and UndefinedBehaviorSanitizer: $NMDP_BUILD_DIR (CI: build-sanitize), by default
+# build-fuzz/, configured here if it is not yet.
 #   scripts/fuzz.sh SECONDS [TARGET ...]     e.g. scripts/fuzz.sh 30, scripts/fuzz.sh 1800 scene urdf
 # A finding (crash, timeout, leak, out-of-memory, sanitizer report) stops that target with its
-# reproducer in build-fuzz/fuzz/findings/<target>/ and makes the script exit non-zero after the rest
-# have run. Each target's corpus grows in build-fuzz/fuzz/corpus/<target>/; libFuzzer's final
-# statistics (executions, coverage) are in build-fuzz/fuzz/logs/<target>.log.
+# reproducer in BUILD/fuzz/findings/<target>/ and makes the script exit non-zero after the rest
+# have run. Each target's corpus grows in BUILD/fuzz/corpus/<target>/; libFuzzer's final
+# statistics (executions, coverage) are in BUILD/fuzz/logs/<target>.log.
 set -uo pipefail
 cd "$(dirname "$0")/.."
 seconds=${1:?usage: scripts/fuzz.sh SECONDS [TARGET ...]}
 shift
-build=${NMDP_FUZZ_BUILD:-build-fuzz}
+build=${NMDP_BUILD_DIR:-build-fuzz}
 if [ ! -f "$build/CMakeCache.txt" ]; then
-  CC=clang-14 CXX=clang++-14 cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DNMDP_NATIVE=OFF \
-    -DNMDP_SANITIZE=address,undefined -DNMDP_BUILD_FUZZERS=ON -DNMDP_BUILD_BENCH=OFF >/dev/null
+  cmake -S . -B "$build" -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release \
+    -DCMAKE_C_FLAGS=-g1 -DCMAKE_CXX_FLAGS=-g1 -DNMDP_SANITIZE=address,undefined -DNMDP_BUILD_FUZZERS=ON \
+    -DNMDP_BUILD_BENCH=OFF >/dev/null
 fi
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
@@ -32,7 +34,9 @@ for t in "${targets[@]}"; do
   [ -d "fuzz/regressions/$t" ] && regressions=("fuzz/regressions/$t")
   # Inputs up to 1 MiB (the published RBF weights are 100 kB of text); 10 s or 2 GiB for one input
   # is a hang or an exhaustion; leaks are reported by LeakSanitizer.
-  "$out/fuzz_$t" "$corpus" "$out/seeds/$t" "${regressions[@]}" -dict="$out/seeds/$t.dict" \
+  dict=()
+  [ -s "$out/seeds/$t.dict" ] && dict=(-dict="$out/seeds/$t.dict")
+  "$out/fuzz_$t" "$corpus" "$out/seeds/$t" "${regressions[@]}" "${dict[@]}" \
     -max_total_time="$seconds" -max_len=1048576 -timeout=10 -rss_limit_mb=2048 -malloc_limit_mb=2048 \
     -print_final_stats=1 -artifact_prefix="$findings/" >"$out/logs/$t.log" 2>&1
   code=$?
