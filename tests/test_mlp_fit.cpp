@@ -7,7 +7,7 @@
 //  * the same seed gives the same model bit for bit, another seed another model;
 //  * the model file loads through the registry ({"type": "mlp"}) and gives the trainer's prediction,
 //    with the /fit group (which loadMlpModel ignores) holding the report;
-//  * early stopping keeps the best validation epoch's weights; the split is stratified by origin;
+//  * early stopping keeps the best validation epoch's weights; the split is stratified by origin and wrench;
 //  * bad settings are InputErrors naming the configuration key.
 // The acceptance test skips with a message when ../shared is absent.
 #include <algorithm>

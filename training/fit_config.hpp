@@ -1,7 +1,7 @@
 // The settings of `nmdp fit` (FIT.json). Every key is optional; unknown keys are an InputError
 // naming the closest valid key. Defaults: the published model's augmentation decided from the data
 // (mirror when the data covers one side of β = 0, zero-wrench rows above the surface, a cut-off at
-// the lowest of them; resolveFitConfig), scale 1, a thin-plate RBF with the published scaling
+// the lowest zero-wrench point above the data's wrenches; resolveFitConfig), scale 1, a thin-plate RBF with the published scaling
 // diag(5, 1), no ridge, no tail; for --model mlp a 2-64-64-3K tanh network trained by full-batch
 // Adam with early stopping (training/mlp_fit.hpp). "data" as a value asks for the default. The
 // "rbf" section is used by --model rbf (and by the MLP's optional teacher grid), the "mlp" section

@@ -40,8 +40,8 @@ const char* const kFitHelp =
     "                      file or an inline JSON object (training/fit_config.hpp; default: the\n"
     "                      published augmentation decided from the data: mirror when the data covers\n"
     "                      one side of beta = 0, zero-wrench points above the surface, the cut-off at\n"
-    "                      the lowest of them; thin-plate diag(5, 1); MLP 2-64-64-3K tanh, Adam, early\n"
-    "                      stopping)\n"
+    "                      the lowest zero point above the data's wrenches (the surface for the sand\n"
+    "                      samples); thin-plate diag(5, 1); MLP 2-64-64-3K tanh, Adam, early stopping)\n"
     "  --out FILE.h5       the model file (or, with --import-csv, the dataset file) to write\n"
     "  --quiet             no report and no progress line\n"
     "  --import-csv FOLDER convert a sand_samples-layout folder to a force dataset and stop\n";
