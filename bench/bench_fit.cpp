@@ -9,9 +9,9 @@
 //   FitMlp/P           P random feature points (depth −0.05..0 m, angle ±0.9 rad) sampled from the
 //                      project's hand-made sand model data/granular/handmade_sand_rbf.h5 (26 vertices,
 //                      so P·26 dataset rows: P = 385 gives 10 010 samples, P = 10 000 gives 260 000),
-//                      trained with the default "mlp" settings of fit_config.hpp (2-64-64-78 tanh,
-//                      full-batch Adam, 5000 epochs at most, validation 10 %, patience 1000) except
-//                      where the benchmark's name says otherwise. One iteration each; the counters
+//                      trained with the default settings of fit_config.hpp (2-64-64-78 tanh,
+//                      full-batch Adam, 10 000 epochs at most, validation 30 %, patience 1000; zero
+//                      rows at 10 heights × 25 angles) except where the benchmark's name says otherwise. One iteration each; the counters
 //                      give the epochs run and the validation error. FitMlp/10000points runs 200 epochs
 //                      only (one epoch on 10 000 points costs ~0.1-0.3 s): its time per epoch is the point.
 #include <benchmark/benchmark.h>

@@ -33,6 +33,15 @@ inline FitConfig fitConfigFile(const std::string& rel) {
   return parseFitConfig(nlohmann::json::parse(in), {path, ""});
 }
 
+// A configuration that adds nothing to the data (left out, mirror and the zero-wrench heights are
+// decided from the data).
+inline FitConfig noAugmentation() {
+  FitConfig c;
+  c.augmentation.mirror = false;
+  c.augmentation.above_heights = std::vector<double>{};
+  return c;
+}
+
 // A planar dataset: the points phis × betas, K vertices each, smooth made-up wrenches that vanish
 // above the surface.
 inline ForceDataset syntheticDataset(int K, const std::vector<double>& phis, const std::vector<double>& betas) {

@@ -82,6 +82,7 @@ TEST(FitAcceptance, PublishedModelConfirmsTheMirrorRule) {
   AugmentationSettings mirror;
   mirror.scale = 3;
   mirror.mirror = true;
+  mirror.above_heights = std::vector<double>{};
   const PlanarPoints points = augment(measured, mirror);
   const std::string dir = sharedPath(kSandModel);
   const RbfFunction published(readPublishedRbf(dir + "/inputs.txt", dir + "/weights.txt"));
@@ -293,6 +294,7 @@ TEST(Augmentation, MirrorNegatesFxAndTauKeepsFz) {
   AugmentationSettings s;
   s.scale = 3;
   s.mirror = true;
+  s.above_heights = std::vector<double>{};
   const PlanarPoints a = augment(twoPoints(), s);
   ASSERT_EQ(a.pointCount(), 3) << "the point at beta = 0 lies on the mirror plane and is not copied";
   EXPECT_EQ(a.values.row(0), 3 * twoPoints().values.row(0));
@@ -411,7 +413,7 @@ INSTANTIATE_TEST_SUITE_P(
 
 TEST(FitBadData, SinglePoint) {
   const ForceDataset d = syntheticDataset(3, {-0.02}, {0.3});
-  const std::string m = inputErrorMessage([&] { fitRbfToDataset(d, FitConfig{}, "one.h5"); });
+  const std::string m = inputErrorMessage([&] { fitRbfToDataset(d, noAugmentation(), "one.h5"); });
   expectAll(m, {"one.h5", "1 feature point", "(phi -0.02, beta 0.3)", "at least 2"});
 }
 
@@ -421,11 +423,11 @@ TEST(FitBadData, DuplicatePointsMakeTheSystemSingular) {
   const Eigen::Index last = d.features.rows() - 2;
   for (Eigen::Index r = last; r < last + 2; ++r) d.features.row(r) << -0.03 * (1 + 1e-15), 0.0;
   d.wrench.row(last) *= 1.5;
-  const std::string m = inputErrorMessage([&] { fitRbfToDataset(d, FitConfig{}, "dup.h5"); });
+  const std::string m = inputErrorMessage([&] { fitRbfToDataset(d, noAugmentation(), "dup.h5"); });
   expectAll(m, {"dup.h5", "singular", "reciprocal condition number", "closest points are 0 (phi -0.03, beta 0)",
                 "remove duplicate", "rbf.ridge > 0"});
   // A ridge makes it a (well-posed) regression.
-  FitConfig ridge;
+  FitConfig ridge = noAugmentation();
   ridge.rbf.ridge = 1e-3;
   const RbfFitOutcome fit = fitRbfToDataset(d, ridge, "dup.h5");
   EXPECT_TRUE(fit.record.fit.parameters.weights.allFinite());
@@ -528,8 +530,9 @@ TEST(FitConfigFile, UnknownKeysAndBadValuesNameTheKey) {
 TEST(FitConfigFile, SettingsJsonParsesBackToTheSameSettings) {
   const FitConfig c = publishedFitConfig();
   EXPECT_EQ(c.augmentation.scale, 3.0);
-  EXPECT_TRUE(c.augmentation.mirror);
-  EXPECT_EQ(c.augmentation.above_heights.size(), 10u);
+  EXPECT_EQ(c.augmentation.mirror, std::optional<bool>(true));
+  ASSERT_TRUE(c.augmentation.above_heights.has_value());
+  EXPECT_EQ(c.augmentation.above_heights->size(), 10u);
   EXPECT_EQ(c.rbf.spec.scaling, Eigen::Vector2d(5, 1));
   const nlohmann::ordered_json j = fitConfigJson(c, 0.1572);
   const FitConfig back = parseFitConfig(nlohmann::json::parse(j.dump()), {"settings", ""});

@@ -7,7 +7,7 @@
 //  * the same seed gives the same model bit for bit, another seed another model;
 //  * the model file loads through the registry ({"type": "mlp"}) and gives the trainer's prediction,
 //    with the /fit group (which loadMlpModel ignores) holding the report;
-//  * early stopping keeps the best validation epoch's weights; the split is stratified by origin;
+//  * early stopping keeps the best validation epoch's weights; the split is stratified by origin and wrench;
 //  * bad settings are InputErrors naming the configuration key.
 // The acceptance test skips with a message when ../shared is absent.
 #include <algorithm>
@@ -191,7 +191,7 @@ TEST(MlpFit, DepthEnvelopeFitsTheWrenchAndVanishesAtTheSurface) {
   FitConfig c = quickConfig();
   c.mlp.output_envelope = MlpOutputEnvelope::Depth;
   c.mlp.max_epochs = 1500;
-  c.augmentation.above_heights.clear();  // the data is then (−φ) times a function of β alone
+  c.augmentation.above_heights = std::vector<double>{};  // the data is then (−φ) times a function of β alone
   const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
   const MlpFit& fit = out.record.fit;
   const PlanarPoints& pts = out.record.points;
@@ -370,7 +370,8 @@ TEST(MlpFit, ModelFileLoadsThroughTheRegistryAndMatchesTheTrainer) {
   EXPECT_EQ(m.parameters.input_mean, fit.record.fit.parameters.input_mean);
   EXPECT_EQ(m.parameters.output_scale, fit.record.fit.parameters.output_scale);
   EXPECT_EQ(m.geometry.torque_centre, 0.05);
-  EXPECT_EQ(m.geometry.cutoff, c.cutoff);
+  EXPECT_EQ(m.geometry.cutoff, fit.geometry.cutoff);
+  EXPECT_EQ(fit.geometry.cutoff, 0.0) << "the data's surface row is zero: the cut-off decided from the data";
 
   // /fit: the report, the settings, the trainer's prediction (values + error) at the points.
   const h5::File f = h5::File::openRead(path);
@@ -447,21 +448,28 @@ TEST(MlpFit, EarlyStoppingKeepsTheBestValidationEpoch) {
   EXPECT_LT(fit.validation_loss, 0.1 * val[0]);
 }
 
-TEST(MlpFit, SplitIsStratifiedByOrigin) {
+TEST(MlpFit, SplitIsStratifiedByOriginAndWrench) {
   FitConfig c = quickConfig();
   c.augmentation.mirror = true;
   c.mlp.max_epochs = 1;
-  c.mlp.validation_fraction = 0.25;
+  c.mlp.validation_fraction = 0.3;
   const ForceDataset positive = syntheticDataset(4, {-0.04, -0.03, -0.02, -0.01, 0.0}, {0.0, 0.3, 0.6});
   const MlpFitOutcome out = fitMlpToDataset(positive, c, "synthetic");
   const PlanarPoints& pts = out.record.points;
-  int total[3] = {0, 0, 0}, held[3] = {0, 0, 0};
+  // Strata: origin × (zero wrench, a wrench); the surface rows of the measured and mirrored points
+  // are zero.
+  int total[6] = {0, 0, 0, 0, 0, 0}, held[6] = {0, 0, 0, 0, 0, 0};
   for (int i = 0; i < pts.pointCount(); ++i) {
-    ++total[static_cast<int>(pts.origin[i])];
-    if (out.record.fit.validation[i]) ++held[static_cast<int>(pts.origin[i])];
+    const int stratum = 2 * static_cast<int>(pts.origin[i]) + (pts.values.row(i).isZero(0) ? 0 : 1);
+    ++total[stratum];
+    if (out.record.fit.validation[i]) ++held[stratum];
   }
-  EXPECT_GT(total[1], 0);
-  for (int o = 0; o < 3; ++o) EXPECT_EQ(held[o], std::lround(0.25 * total[o])) << "origin " << o;
+  for (int stratum : {0, 1, 2, 3, 4}) EXPECT_GT(total[stratum], 0) << "stratum " << stratum;
+  for (int stratum = 0; stratum < 6; ++stratum)
+    EXPECT_EQ(held[stratum], std::lround(0.3 * total[stratum])) << "stratum " << stratum;
+  // Stratified by origin only, the 12 measured points with a wrench could have lost their share to the
+  // 3 zero ones: here 4 of them are held out (12 · 0.3 = 3.6), whatever the seed.
+  EXPECT_EQ(held[1], 4);
   c.mlp.validation_fraction = 0;
   const MlpFitOutcome none = fitMlpToDataset(smallDataset(), c, "synthetic");
   EXPECT_EQ(std::count(none.record.fit.validation.begin(), none.record.fit.validation.end(), true), 0);
@@ -658,12 +666,13 @@ TEST(MlpFitBadSettings, NameTheConfigurationKey) {
 
   // A validation fraction that leaves no training point (every origin rounds up to all its points).
   FitConfig c = quickConfig();
-  c.augmentation.above_heights.clear();
+  c.augmentation.above_heights = std::vector<double>{};
   c.mlp.validation_fraction = 0.99;
   expectAll(inputErrorMessage([&] { fitMlpToDataset(syntheticDataset(2, {-0.02, -0.01}, {0.0}), c, "two.h5"); }),
             {"two.h5", "mlp.validation_fraction", "no point is left to train on"});
   // A single point: the data path says so first.
-  expectAll(inputErrorMessage([&] { fitMlpToDataset(syntheticDataset(2, {-0.02}, {0.0}), FitConfig{}, "one.h5"); }),
+  expectAll(inputErrorMessage(
+                [&] { fitMlpToDataset(syntheticDataset(2, {-0.02}, {0.0}), noAugmentation(), "one.h5"); }),
             {"one.h5", "1 feature point", "at least 2"});
 }
 

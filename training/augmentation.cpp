@@ -96,10 +96,60 @@ PlanarPoints groupPlanarSamples(const ForceDataset& data, const std::string& whe
   return out;
 }
 
-PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& settings) {
-  if (!(std::isfinite(settings.scale) && settings.scale != 0.0))
+bool dataCoversOneSide(const PlanarPoints& points) {
+  if (points.pointCount() == 0) return false;
+  const double lowest = points.features.col(1).minCoeff(), highest = points.features.col(1).maxCoeff();
+  return (lowest >= 0.0 || highest <= 0.0) && (lowest != 0.0 || highest != 0.0);
+}
+
+std::vector<double> scaledPublishedHeights(const PlanarPoints& points) {
+  // The published sand model's zero-wrench heights (granular/README.md), for its 7 cm of data.
+  static constexpr double kPublishedHeights[] = {0.01, 0.03, 0.05, 0.1, 0.2, 0.3, 0.4, 0.6, 0.8, 1.0};
+  constexpr double kPublishedDepthSpan = 0.07;
+  const double lowest = points.pointCount() > 0 ? points.features.col(0).minCoeff() : 0.0;
+  const double span = lowest < 0.0 ? -lowest : kPublishedDepthSpan;
+  std::vector<double> heights;
+  for (double h : kPublishedHeights) heights.push_back(h * (span / kPublishedDepthSpan));
+  return heights;
+}
+
+std::vector<double> defaultAboveSurfaceHeights(const PlanarPoints& points) {
+  if (points.pointCount() > 0 && points.features.col(0).maxCoeff() > 0.0) return {};
+  return scaledPublishedHeights(points);
+}
+
+AugmentationSettings resolveAugmentation(const PlanarPoints& points, const AugmentationSettings& settings) {
+  AugmentationSettings out = settings;
+  if (!out.mirror) out.mirror = dataCoversOneSide(points);
+  if (!out.above_heights) {
+    out.above_heights = defaultAboveSurfaceHeights(points);
+    if (out.above_angles.empty() && !out.above_heights->empty()) {
+      std::vector<double> angles;
+      for (int i = 0; i < points.pointCount(); ++i) {
+        angles.push_back(points.features(i, 1));
+        if (*out.mirror) angles.push_back(-points.features(i, 1));
+      }
+      std::sort(angles.begin(), angles.end());
+      angles.erase(std::unique(angles.begin(), angles.end()), angles.end());
+      if (static_cast<int>(angles.size()) > kMaxDefaultAboveAngles) {
+        const double first = angles.front(), last = angles.back();
+        out.above_angles.resize(kMaxDefaultAboveAngles);
+        for (int k = 0; k < kMaxDefaultAboveAngles; ++k)
+          out.above_angles[k] = k + 1 < kMaxDefaultAboveAngles
+                                    ? first + (last - first) * k / (kMaxDefaultAboveAngles - 1)
+                                    : last;  // the range's ends exactly
+      }
+    }
+  }
+  return out;
+}
+
+PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& requested) {
+  if (!(std::isfinite(requested.scale) && requested.scale != 0.0))
     throw std::invalid_argument("augment: the scale must be finite and non-zero");
-  for (double h : settings.above_heights)
+  const AugmentationSettings settings = resolveAugmentation(points, requested);
+  const std::vector<double>& heights = *settings.above_heights;
+  for (double h : heights)
     if (!(std::isfinite(h) && h > 0.0)) throw std::invalid_argument("augment: heights above the surface must be > 0");
   for (double a : settings.above_angles)
     if (!std::isfinite(a)) throw std::invalid_argument("augment: angles must be finite");
@@ -108,9 +158,9 @@ PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& set
   const int K = points.vertexCount();
   // Worst case: every point mirrored, every (height, angle) added.
   const Eigen::Index angle_bound = settings.above_angles.empty() ? 2 * P : settings.above_angles.size();
-  const Eigen::Index capacity = 2 * P + static_cast<Eigen::Index>(settings.above_heights.size()) * angle_bound;
+  const Eigen::Index capacity = 2 * P + static_cast<Eigen::Index>(heights.size()) * angle_bound;
   if (capacity * 3 * K > limits::kMaxArrayEntries)
-    throw InputError("augmentation.above_surface: " + std::to_string(settings.above_heights.size()) + " heights x " +
+    throw InputError("augmentation.above_surface: " + std::to_string(heights.size()) + " heights x " +
                      std::to_string(angle_bound) + " angles over " + std::to_string(P) + " points of " + std::to_string(K) +
                      " vertices is more data than a fit takes (" + std::to_string(limits::kMaxArrayEntries) + " values)");
   PlanarPoints out;
@@ -121,7 +171,7 @@ PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& set
   out.origin = points.origin;
   Eigen::Index n = P;
 
-  if (settings.mirror) {
+  if (*settings.mirror) {
     for (Eigen::Index i = 0; i < P; ++i) {
       const double phi = points.features(i, 0), beta = points.features(i, 1);
       if (beta == 0.0 || findPoint(out.features, n, phi, -beta) >= 0) continue;  // on the mirror plane, or measured
@@ -143,7 +193,7 @@ PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& set
     for (Eigen::Index i = 0; i < n; ++i)
       if (std::find(angles.begin(), angles.end(), out.features(i, 1)) == angles.end())
         angles.push_back(out.features(i, 1));
-  for (double h : settings.above_heights) {
+  for (double h : heights) {
     for (double a : angles) {
       if (findPoint(out.features, n, h, a) >= 0) continue;
       out.features.row(n) << h, a;

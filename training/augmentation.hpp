@@ -9,8 +9,11 @@
 //   * above_surface  zero-wrench points at heights φ > 0 for a list of angles (by default every
 //                angle of the points after mirroring), so the fitted force fades above the ground.
 // Augmented points that coincide with an existing point are skipped: measured data wins.
+// Mirror and heights not given are decided from the data (resolveAugmentation): the published
+// model's augmentation, so that a fit with no configuration pushes no force on a foot in the air.
 #pragma once
 #include <Eigen/Dense>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,15 +45,40 @@ const char* mirrorVerticesName(MirrorVertices m);  // "same", "reversed"
 
 struct AugmentationSettings {
   double scale = 1.0;  // finite, non-zero
-  bool mirror = false;
+  std::optional<bool> mirror;  // none: decided from the data (dataCoversOneSide)
   MirrorVertices mirror_vertices = MirrorVertices::Same;
-  std::vector<double> above_heights;  // φ > 0 of the zero-wrench points; empty = none
+  // φ > 0 of the zero-wrench points; empty = none; none (std::nullopt): defaultAboveSurfaceHeights.
+  // (Assign std::vector<double>{} for "none": `= {}` would reset the optional to "from the data".)
+  std::optional<std::vector<double>> above_heights;
   std::vector<double> above_angles;   // their β; empty = every β of the points after mirroring
 };
 
+// Whether every angle of the points lies on one side of β = 0 (all ≥ 0 or all ≤ 0, some ≠ 0):
+// then the default augmentation mirrors them.
+bool dataCoversOneSide(const PlanarPoints& points);
+
+// The published model's heights, [0.01, 0.03, 0.05, 0.1, 0.2, 0.3, 0.4, 0.6, 0.8, 1.0] m for data
+// 7 cm deep, scaled by the data's depth span (−the lowest φ; 7 cm when no point is below the
+// surface), so that data of another depth range gets rows as far above the surface relative to its
+// own depths.
+std::vector<double> scaledPublishedHeights(const PlanarPoints& points);
+// The default zero-wrench heights: scaledPublishedHeights, or none when the data has points above
+// the surface already (it brings its own).
+std::vector<double> defaultAboveSurfaceHeights(const PlanarPoints& points);
+
+// The most angles the default zero-wrench rows get: scattered data (every point at its own angle)
+// would otherwise get heights × points of them (a grid like the sand samples has 7 angles mirrored).
+constexpr int kMaxDefaultAboveAngles = 25;
+
+// The settings with mirror and above_heights decided from the points where not given; the rest as
+// given, except that default heights with angles "data" over more than kMaxDefaultAboveAngles
+// distinct angles (after mirroring) get that many angles evenly over their range instead.
+AugmentationSettings resolveAugmentation(const PlanarPoints& points, const AugmentationSettings& settings);
+
 // The augmented points: the input (scaled), then the mirrored copies, then the zero-wrench points
-// (for each height, each angle), the order the published model's centres have. Throws
-// std::invalid_argument on settings that parseFitConfig rejects (a zero scale, a height ≤ 0).
+// (for each height, each angle), the order the published model's centres have. Settings not given
+// are decided from the points first (resolveAugmentation). Throws std::invalid_argument on settings
+// that parseFitConfig rejects (a zero scale, a height ≤ 0).
 PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& settings);
 
 // What the fit reports divide errors by: at each point the largest |value| entry, "the largest

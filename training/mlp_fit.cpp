@@ -164,14 +164,16 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
                      " feature point(s) after augmentation: an MLP fit needs at least 2 (more data, or augmentation)");
   if (K < 1) throw InputError(where + ": no vertices to fit");
 
-  // ---- split by point, stratified by origin ------------------------------------------------------
+  // ---- split by point, stratified by origin and by whether the point carries a wrench -------------
+  // (so the validation points that carry one, those that say something about the fit, are a fixed share)
   std::mt19937 rng(s.seed);
   MlpFit fit;
   fit.validation.assign(P, false);
-  for (int o = 0; o < 3; ++o) {
+  for (int stratum = 0; stratum < 6; ++stratum) {
     std::vector<int> idx;
     for (int i = 0; i < P; ++i)
-      if (static_cast<int>(points.origin[i]) == o) idx.push_back(i);
+      if (2 * static_cast<int>(points.origin[i]) + (points.values.row(i).isZero(0.0) ? 0 : 1) == stratum)
+        idx.push_back(i);
     const int n_val = static_cast<int>(std::lround(s.validation_fraction * static_cast<double>(idx.size())));
     for (int i = static_cast<int>(idx.size()) - 1; i > 0; --i) std::swap(idx[i], idx[rng() % static_cast<unsigned>(i + 1)]);
     for (int n = 0; n < n_val; ++n) fit.validation[idx[n]] = true;
@@ -389,6 +391,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   // set, kLbfgsChunk iterations per "epoch" (one history row, one early-stopping check each).
   const int lbfgs_epochs = (s.lbfgs_iterations + kLbfgsChunk - 1) / kLbfgsChunk;
   const int total_epochs = s.max_epochs + lbfgs_epochs;
+  fit.total_epochs = total_epochs;
   std::unique_ptr<torch::optim::LBFGS> lbfgs;
   for (int epoch = 1; epoch <= total_epochs; ++epoch) {
     const bool adam_epoch = epoch <= s.max_epochs;
@@ -496,6 +499,7 @@ std::string formatMlpFitReport(const MlpFitRecord& r) {
   std::ostringstream s;
   s << "MLP fit of " << r.data << "\n";
   s << "settings: " << r.settings.dump() << "\n";
+  for (const std::string& d : r.from_data) s << "decided from the data: " << d << "\n";
   int counts[3] = {0, 0, 0}, val_counts[3] = {0, 0, 0};
   for (Eigen::Index i = 0; i < P; ++i) {
     ++counts[static_cast<int>(pts.origin[i])];
@@ -567,7 +571,7 @@ std::string formatMlpFitReport(const MlpFitRecord& r) {
     s << (n ? "," : "") << " " << i << " (" << pts.features(i, 0) << ", " << pts.features(i, 1) << ") " << std::fixed
       << std::setprecision(2) << 100 * per_point[i] << std::defaultfloat << std::setprecision(6);
   }
-  s << "\n";
+  s << "\n" << formatAboveSurface(r.above_surface) << formatFitWarnings(r.warnings);
   return s.str();
 }
 
@@ -583,6 +587,11 @@ void saveMlpFit(const std::string& path, const MlpFitRecord& r, const PlanarGeom
   file.writeDoubleAttribute("/fit", "best_epoch", r.fit.best_epoch);
   file.writeDoubleAttribute("/fit", "train_loss", r.fit.train_loss);
   file.writeDoubleAttribute("/fit", "validation_loss", r.fit.validation_loss);
+  std::string from_data;
+  for (const std::string& d : r.from_data) from_data += d + "\n";
+  file.writeStringAttribute("/fit", "from_data", from_data);
+  file.writeStringAttribute("/fit", "warnings", r.warnings.empty() ? "" : formatFitWarnings(r.warnings));
+  file.writeDoubleAttribute("/fit", "above_surface_share", r.above_surface.share());
   file.writeMatrix("/fit/points", r.points.features);
   const Eigen::Index P = r.points.pointCount();
   Eigen::VectorXi origin(P), validation(P);
@@ -603,14 +612,23 @@ MlpFitOutcome fitMlpToDataset(const ForceDataset& data, const FitConfig& config,
                               const MlpProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
   const PlanarPoints grouped = groupPlanarSamples(data, data_name);
+  const ResolvedFitConfig resolved = resolveFitConfig(config, data, grouped, data_name);
+  const FitConfig& c = resolved.config;
   MlpFitOutcome out;
-  out.geometry = resolveFitGeometry(data, config, data_name);
+  out.geometry = fitGeometry(c);
   MlpFitRecord& r = out.record;
-  r.points = augment(grouped, config.augmentation);
-  r.fit = fitMlp(r.points, config.mlp, data_name, progress, &config.rbf);
+  r.points = augment(grouped, c.augmentation);
+  r.fit = fitMlp(r.points, c.mlp, data_name, progress, &c.rbf);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  r.settings = fitConfigJson(config, out.geometry.torque_centre, "mlp");
+  r.settings = fitConfigJson(c, out.geometry.torque_centre, "mlp");
+  r.from_data = resolved.from_data;
   r.data = data_name;
+  r.above_surface = checkAboveSurface(MlpFunction(r.fit.parameters), out.geometry, r.points);
+  if (auto w = aboveSurfaceWarning(r.above_surface, out.geometry)) r.warnings.push_back(*w);
+  if (auto w = epochLimitWarning(r.fit.stopped_early, r.fit.epochs, r.fit.total_epochs, r.fit.best_epoch,
+                                 c.mlp.patience))
+    r.warnings.push_back(*w);
+  if (auto w = validationSizeWarning(r.fit.validation, r.points, c.mlp.validation_fraction)) r.warnings.push_back(*w);
   return out;
 }
 

@@ -23,9 +23,10 @@
 //     multiplies the anchored network). With it the relative loss's floor follows the factor:
 //     relative_floor · S · m(min(φ_i, 0)) / m(φ_S), φ_S the depth of the largest wrench, so that near
 //     the surface, where the wrench is small, the loss stays relative;
-//   * split by feature point, stratified by origin (measured, mirrored, above the surface): of each
-//     origin's points round(validation_fraction · count) go to validation, picked by a Fisher–Yates
-//     shuffle driven by std::mt19937(seed) (portable: rng() % n, not std::shuffle);
+//   * split by feature point, stratified by origin (measured, mirrored, above the surface) and by
+//     whether the point carries a wrench: of each stratum's points round(validation_fraction · count)
+//     go to validation, picked by a Fisher–Yates shuffle driven by std::mt19937(seed) (portable:
+//     rng() % n, not std::shuffle);
 //   * the network starts from randomMlpParameters(hidden_layers, width, K, activation, seed) (torch's
 //     default initialization, reproducible on every platform); torch::manual_seed(seed) is set too,
 //     though nothing in the trainer draws from torch's generator;
@@ -80,6 +81,7 @@
 
 #include "contact_models/mlp_function.hpp"
 #include "training/augmentation.hpp"
+#include "training/fit_warnings.hpp"
 
 namespace nmdp {
 
@@ -91,11 +93,14 @@ struct MlpFitSettings {
   int hidden_layers = 2;
   int width = 64;
   MlpActivation activation = MlpActivation::Tanh;
-  int max_epochs = 5000;
+  // A first fit of data like the sand samples (26 points carrying a wrench): 30 % held out gives 8
+  // validation points with a wrench (kMinValidationPoints); early stopping ends it after ~2000 epochs
+  // (2 s), the learning rate decaying over 10 000.
+  int max_epochs = 10000;
   double learning_rate = 1e-2;
   double final_learning_rate = 1e-5;
   int batch_size = 0;  // 0 = full batch
-  double validation_fraction = 0.1;
+  double validation_fraction = 0.3;
   int patience = 1000;  // epochs without a new best validation loss; 0 = no early stopping
   std::uint32_t seed = 1;
   double weight_decay = 0.0;
@@ -128,6 +133,7 @@ struct MlpFit {
   MlpParameters parameters;         // the best epoch's weights with the normalization
   std::vector<bool> validation;     // P: the point was held out
   int epochs = 0;                   // epochs run
+  int total_epochs = 0;             // the limit: max_epochs + the L-BFGS epochs
   int best_epoch = 0;               // whose weights were kept (0: the initial network)
   bool stopped_early = false;       // patience ran out before max_epochs
   double train_loss = 0.0;          // of the kept weights
@@ -160,18 +166,23 @@ struct MlpFitRecord {
   MlpFit fit;
   std::string data;
   double seconds = 0;  // wall time of augmentation and training
+  std::vector<std::string> from_data;  // the settings decided from the data (resolveFitConfig)
+  AboveSurfaceCheck above_surface;     // the model between the surface and the cut-off
+  std::vector<FitWarning> warnings;    // above the surface, the epoch limit, the validation size
 };
 
 // The report printed after a fit and stored in the model file: the settings, the sizes (points by
 // origin, training/validation, network, parameters), the epochs, the losses and the error per vertex
 // relative to the largest wrench at each point: largest and RMS over the validation points, largest
-// over the training points, the worst point; then the worst validation points.
+// over the training points, the worst point; then the worst validation points, the model's largest
+// wrench above the surface and the warnings (fit_warnings.hpp).
 std::string formatMlpFitReport(const MlpFitRecord& record);
 
 // Writes the model file of contact_models/mlp_function.hpp, which the "mlp" contact model loads as
 // it is, plus a group /fit (ignored by loadMlpModel):
 //   /fit                attributes: data, settings (JSON text), report (text), seconds, epochs,
-//                       best_epoch, train_loss, validation_loss
+//                       best_epoch, train_loss, validation_loss, from_data (text, one decided
+//                       setting a line), warnings (text, as in the report), above_surface_share
 //   /fit/points         P×2 float64 (φ, β), the augmented points
 //   /fit/origin         P int64: 0 measured, 1 mirrored, 2 above the surface
 //   /fit/validation     P int64: 1 held out for validation, 0 trained on
@@ -183,7 +194,8 @@ std::string formatMlpFitReport(const MlpFitRecord& record);
 void saveMlpFit(const std::string& path, const MlpFitRecord& record, const PlanarGeometry& geometry);
 
 // The whole MLP pipeline on a dataset, as fitRbfToDataset (fit_config.hpp) for the RBF: group by
-// point, augment, train with config.mlp, with the settings and the timing recorded. Throws
+// point, decide what the configuration leaves to the data, augment, train with config.mlp, check
+// (fit_warnings.hpp), with the settings and the timing recorded. Throws
 // InputError for bad data (groupPlanarSamples), a missing torque centre, or settings that leave no
 // training point.
 struct FitConfig;

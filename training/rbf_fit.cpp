@@ -108,6 +108,7 @@ std::string formatRbfFitReport(const RbfFitRecord& r) {
   std::ostringstream s;
   s << "RBF fit of " << r.data << "\n";
   s << "settings: " << r.settings.dump() << "\n";
+  for (const std::string& d : r.from_data) s << "decided from the data: " << d << "\n";
   int counts[3] = {0, 0, 0};
   for (PointOrigin o : pts.origin) ++counts[static_cast<int>(o)];
   s << "points: " << P << " (" << counts[0] << " measured, " << counts[1] << " mirrored, " << counts[2]
@@ -152,7 +153,9 @@ std::string formatRbfFitReport(const RbfFitRecord& r) {
     s << (n ? "," : "") << " " << i << " (" << pts.features(i, 0) << ", " << pts.features(i, 1) << ") " << std::fixed
       << std::setprecision(2) << 100 * per_point[i] << std::defaultfloat << std::setprecision(6);
   }
-  s << "\n";
+  s << "\n" << std::setprecision(3) << "RMS over the measured points with a wrench, each at its worst vertex: "
+    << 100 * measuredRms(fit.loo_relative, pts) << " % (warned above " << 100 * kLooWarnRms << " %)\n";
+  s << formatAboveSurface(r.above_surface) << formatFitWarnings(r.warnings);
   return s.str();
 }
 
@@ -165,6 +168,12 @@ void saveRbfFit(const std::string& path, const RbfFitRecord& r, const PlanarGeom
   file.writeStringAttribute("/fit", "settings", r.settings.dump());
   file.writeStringAttribute("/fit", "report", formatRbfFitReport(r));
   file.writeDoubleAttribute("/fit", "seconds", r.seconds);
+  std::string from_data;
+  for (const std::string& d : r.from_data) from_data += d + "\n";
+  file.writeStringAttribute("/fit", "from_data", from_data);
+  file.writeStringAttribute("/fit", "warnings", r.warnings.empty() ? "" : formatFitWarnings(r.warnings));
+  file.writeDoubleAttribute("/fit", "above_surface_share", r.above_surface.share());
+  file.writeDoubleAttribute("/fit", "loo_rms", measuredRms(r.fit.loo_relative, r.points));
   file.writeMatrix("/fit/points", r.points.features);
   Eigen::VectorXi origin(r.points.origin.size());
   for (size_t i = 0; i < r.points.origin.size(); ++i) origin[i] = static_cast<int>(r.points.origin[i]);

@@ -21,6 +21,7 @@
 
 #include "contact_models/rbf_function.hpp"
 #include "training/augmentation.hpp"
+#include "training/fit_warnings.hpp"
 
 namespace nmdp {
 
@@ -54,16 +55,23 @@ struct RbfFitRecord {
   RbfFit fit;
   std::string data;    // the data set it came from
   double seconds = 0;  // wall time of augmentation and fit
+  std::vector<std::string> from_data;  // the settings decided from the data (resolveFitConfig)
+  AboveSurfaceCheck above_surface;     // the model between the surface and the cut-off
+  std::vector<FitWarning> warnings;    // the leave-one-point-out error, the model above the surface
 };
 
-// The report printed after a fit and stored in the model file: settings, sizes, condition, and the
-// leave-one-point-out error per vertex (largest and RMS over the measured points, largest over all
-// points, the worst point) and the worst points.
+// The report printed after a fit and stored in the model file: settings (and which were decided
+// from the data), sizes, condition, the leave-one-point-out error per vertex (largest and RMS over
+// the measured points, largest over all points, the worst point) and the worst points, the model's
+// largest wrench above the surface, and the warnings (fit_warnings.hpp).
 std::string formatRbfFitReport(const RbfFitRecord& record);
 
 // Writes the model file of contact_models/rbf_function.hpp (format_version 1), which the "rbf"
 // contact model loads as it is, plus a group /fit (ignored by the loader):
-//   /fit                attributes: data (string), settings (JSON text), report (text), seconds
+//   /fit                attributes: data (string), settings (JSON text), report (text), seconds,
+//                       from_data (text, one decided setting a line), warnings (text, as in the
+//                       report), above_surface_share (the largest wrench above the surface over
+//                       the largest below), loo_rms (RMS relative LOO error over the measured points)
 //   /fit/points         P×2 float64 (φ, β), the fitted points (= /rbf/centres)
 //   /fit/origin         P int64: 0 measured, 1 mirrored, 2 above the surface
 //   /fit/values         P×3K float64, the fitted values (after scaling and augmentation)

@@ -1,5 +1,7 @@
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -10,6 +12,7 @@
 #include "app/json_argument.hpp"
 #include "app/progress_bar.hpp"
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
 #include "io/json_params.hpp"
 #include "training/fit_config.hpp"
 #include "training/force_dataset.hpp"
@@ -25,14 +28,21 @@ const char* const kFitHelp =
     "{\"type\": \"mlp\", \"file\": \"MODEL.h5\"} (--model mlp). After the fit a report is printed and stored\n"
     "in the model file (/fit): for the RBF the settings and the leave-one-point-out error per vertex, for\n"
     "the MLP the settings, epochs, losses and the validation error per vertex, both relative to the\n"
-    "largest wrench at each point. MLP training shows a progress line on stderr when it is a terminal.\n\n"
-    "  --data DATA         a force dataset (HDF5, training/force_dataset.hpp) or a folder in the CSV\n"
-    "                      layout of granular/sand_samples (features.csv, wrench_samples.csv, scalars.txt)\n"
+    "largest wrench at each point; then the model's largest wrench above the surface and warnings, each\n"
+    "with a suggestion (a large leave-one-out error, a model that pushes above the surface, an MLP that\n"
+    "stopped at its epoch limit or validated on too few points). MLP training shows a progress line on\n"
+    "stderr when it is a terminal.\n\n"
+    "  --data DATA         a force dataset (HDF5, training/force_dataset.hpp), a folder in the CSV layout\n"
+    "                      of granular/sand_samples (features.csv, wrench_samples.csv, scalars.txt) or\n"
+    "                      a .csv file in such a folder (e.g. its wrench_samples.csv)\n"
     "  --model rbf|mlp     the model to fit: an RBF interpolant or a libtorch MLP (training/mlp_fit.hpp)\n"
     "  --config FIT.json   augmentation, rbf (kernel, scaling, ridge, tail), mlp (layers, width,\n"
     "                      activation, epochs, learning rate, validation, seed, ...), geometry, as a\n"
-    "                      file or an inline JSON object (training/fit_config.hpp; default: no\n"
-    "                      augmentation, thin-plate diag(5, 1); MLP 2-64-64-3K tanh, Adam)\n"
+    "                      file or an inline JSON object (training/fit_config.hpp; default: the\n"
+    "                      published augmentation decided from the data: mirror when the data covers\n"
+    "                      one side of beta = 0, zero-wrench points above the surface, the cut-off at\n"
+    "                      the lowest zero point above the data's wrenches (the surface for the sand\n"
+    "                      samples); thin-plate diag(5, 1); MLP 2-64-64-3K tanh, Adam, early stopping)\n"
     "  --out FILE.h5       the model file (or, with --import-csv, the dataset file) to write\n"
     "  --quiet             no report and no progress line\n"
     "  --import-csv FOLDER convert a sand_samples-layout folder to a force dataset and stop\n";
@@ -89,10 +99,60 @@ class TrainingLine {
   MlpEpochStatus last_;
 };
 
-// A dataset file, or a sand_samples-layout folder imported on the fly.
-ForceDataset loadData(const std::string& path) {
+const char* const kAcceptedData =
+    "expected a force dataset (HDF5, as nmdp fit --import-csv writes), a folder in the CSV layout of "
+    "granular/sand_samples (features.csv, wrench_samples.csv, scalars.txt) or a .csv file in such a folder";
+
+// Whether the file starts with the HDF5 signature, at byte 0 or at a user block of 512, 1024, ... bytes
+// (where the HDF5 library looks for it).
+bool hasHdf5Signature(const std::string& path, std::uintmax_t size) {
+  static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
+  std::ifstream in(path, std::ios::binary);
+  for (std::uintmax_t offset = 0; in && offset + 8 <= size; offset = offset ? 2 * offset : 512) {
+    char head[8];
+    in.seekg(static_cast<std::streamoff>(offset));
+    if (!in.read(head, 8)) return false;
+    if (std::equal(head, head + 8, kSignature)) return true;
+  }
+  return false;
+}
+
+bool isSandSamplesFolder(const std::filesystem::path& folder) {
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) return importSandSamplesCsv(path);
+  for (const char* name : {"features.csv", "wrench_samples.csv", "scalars.txt"})
+    if (!std::filesystem::is_regular_file(folder / name, ec)) return false;
+  return true;
+}
+
+// --data: a dataset file, a sand_samples-layout folder or a .csv file of one (the folder is imported
+// on the fly); anything else is one message naming the path and what is accepted.
+ForceDataset loadData(const std::string& path) {
+  namespace fs = std::filesystem;
+  const std::string shown = "--data " + displayPath(path);
+  if (!pathExists(path)) throw InputError(shown + ": no such file or folder; " + kAcceptedData);
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) {
+    if (!isSandSamplesFolder(path))
+      throw InputError(shown + ": a folder without features.csv, wrench_samples.csv and scalars.txt; " +
+                       kAcceptedData);
+    return importSandSamplesCsv(path);
+  }
+  std::string extension = fs::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension == ".csv") {
+    const fs::path parent = fs::path(path).parent_path();
+    const fs::path folder = parent.empty() ? fs::path(".") : parent;
+    if (!isSandSamplesFolder(folder))
+      throw InputError(shown + ": a .csv file whose folder lacks features.csv, wrench_samples.csv or scalars.txt; " +
+                       kAcceptedData);
+    return importSandSamplesCsv(folder.string());
+  }
+  if (!fs::is_regular_file(path, ec))
+    throw InputError(shown + ": neither a regular file nor a folder; " + kAcceptedData);
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec || !hasHdf5Signature(path, size))
+    throw InputError(shown + ": neither an HDF5 file nor a .csv file; " + kAcceptedData);
   return readForceDataset(path);
 }
 }  // namespace
