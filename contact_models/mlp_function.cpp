@@ -180,6 +180,32 @@ std::string mlpParameterProblem(const MlpParameters& p) {
                  std::to_string(p.anchor_radius) + ": each anchor's bump must vanish at the others";
       }
   }
+  // Finite numbers can still overflow: bound |outputs| and |d outputs / d features| layer by layer
+  // for features within ±kMaxModelFeature (|Wx + b| ≤ row-sum(|W|)·|x| + |b|; tanh ≤ 1, softplus
+  // ≤ |x| + log 2, SiLU ≤ |x|; their slopes ≤ 1.1).
+  double value = 0.0, slope = 0.0;
+  for (int c = 0; c < 2; ++c) {
+    value = std::max(value, (limits::kMaxModelFeature + std::abs(p.input_mean[c])) / p.input_std[c]);
+    slope = std::max(slope, 1.0 / p.input_std[c]);
+  }
+  for (size_t i = 0; i < p.layers.size(); ++i) {
+    const double gain = p.layers[i].weight.cwiseAbs().rowwise().sum().maxCoeff();
+    value = gain * value + p.layers[i].bias.cwiseAbs().maxCoeff();
+    slope = gain * slope;
+    if (i + 1 < p.layers.size()) {
+      value = p.activation == MlpActivation::Tanh ? std::min(value, 1.0) : value + std::log(2.0);
+      slope *= 1.1;
+    }
+  }
+  const double scale = p.output_scale.cwiseAbs().maxCoeff();
+  value = scale * value + p.output_offset.cwiseAbs().maxCoeff();
+  slope *= scale;
+  if (!(value <= limits::kMaxModelOutputBound && slope <= limits::kMaxModelOutputBound)) {
+    std::ostringstream out;
+    out << "the weights of '/mlp' are so large that its output or derivative could overflow (bound " << std::max(value, slope)
+        << " for features within " << limits::kMaxModelFeature << "): not a trained network";
+    return out.str();
+  }
   return "";
 }
 

@@ -176,6 +176,29 @@ PlanarGeometry publishedRbfGeometry() {
   return g;
 }
 
+std::string rbfMagnitudeProblem(const RbfParameters& p) {
+  const auto number = [](double x) {
+    std::ostringstream out;
+    out << x;
+    return out.str();
+  };
+  for (Eigen::Index i = 0; i < p.centres.rows(); ++i)
+    for (int c = 0; c < 2; ++c)
+      if (!(std::abs(p.centres(i, c)) <= limits::kMaxRbfCentreCoordinate))
+        return "centre " + std::to_string(i + 1) + " has |" + (c == 0 ? "phi" : "beta") + "| = " + number(std::abs(p.centres(i, c))) +
+               " > " + number(limits::kMaxRbfCentreCoordinate);
+  const auto largest = [](const Eigen::MatrixXd& m) { return m.size() == 0 ? 0.0 : m.cwiseAbs().maxCoeff(); };
+  if (!(largest(p.weights) <= limits::kMaxRbfWeight))
+    return "a weight of magnitude " + number(largest(p.weights)) + " > " + number(limits::kMaxRbfWeight);
+  if (!(largest(p.polynomial) <= limits::kMaxRbfWeight))
+    return "a polynomial coefficient of magnitude " + number(largest(p.polynomial)) + " > " + number(limits::kMaxRbfWeight);
+  if (!(p.spec.scaling.maxCoeff() <= limits::kMaxRbfScale))
+    return "a feature scaling of " + number(p.spec.scaling.maxCoeff()) + " > " + number(limits::kMaxRbfScale);
+  if (!(p.spec.epsilon <= limits::kMaxRbfScale))
+    return "epsilon = " + number(p.spec.epsilon) + " > " + number(limits::kMaxRbfScale);
+  return "";
+}
+
 RbfFunction::RbfFunction(RbfParameters parameters) : params_(std::move(parameters)) {
   const RbfParameters& p = params_;
   const Eigen::Index N = p.centres.rows();
@@ -395,6 +418,8 @@ RbfParameters readPublishedRbf(const std::string& inputs_path, const std::string
   for (Eigen::Index v = 0; v < K; ++v)
     for (Eigen::Index i = 0; i < N; ++i)
       for (int c = 0; c < 3; ++c) p.weights(i, 3 * v + c) = weights[3 * (v * N + i) + c];
+  if (const std::string problem = rbfMagnitudeProblem(p); !problem.empty())
+    throw InputError(inputs_path + " and " + weights_path + ": " + problem + ", beyond any contact model");
   return p;
 }
 
@@ -475,6 +500,7 @@ RbfModelFile readRbfHdf5(const std::string& path) {
   p.centres = centres;
   p.weights = weights;
   p.spec.scaling = Eigen::Vector2d(scaling.data()[0], scaling.data()[1]);
+  if (const std::string problem = rbfMagnitudeProblem(p); !problem.empty()) fail("'/rbf': " + problem + ", beyond any contact model");
   return out;
 }
 

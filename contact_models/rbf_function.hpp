@@ -88,6 +88,11 @@ struct RbfParameters {
   Eigen::MatrixXd polynomial;  // empty (no tail) or 3×3K: rows = coefficients of 1, φ, β
 };
 
+// "" when every number of `p` lies within the limits of common/limits.hpp (kMaxRbfCentreCoordinate,
+// kMaxRbfWeight, kMaxRbfScale), else what does not, e.g. "centre 3 has |beta| = 3e+306 > 1000": a
+// finite but huge number would make the model's wrenches overflow where it is evaluated.
+std::string rbfMagnitudeProblem(const RbfParameters& p);
+
 // The published sand model's geometry: torque centre 0.1572 m, cut-off 0.1 m (band 0.02 m).
 PlanarGeometry publishedRbfGeometry();
 

@@ -902,6 +902,20 @@ TEST(MlpFile, NanWeight) {
   expectLoadError(raw, {"'/mlp/output_offset'", "non-finite"});
 }
 
+// Finite weights whose product through the layers overflows a double: refused at loading, where a
+// loaded model would have returned infinite wrenches. A trained network is far inside the bound.
+TEST(MlpFile, WeightsThatCouldOverflowAreRefused) {
+  RawFile raw;
+  raw.activation = "silu";  // unbounded: the bound grows with every layer
+  for (MlpLayer& l : raw.p.layers) l.weight *= 1e80;
+  expectLoadError(raw, {"'/mlp'", "could overflow"});
+  raw = RawFile();
+  raw.p.input_std[0] = 1e-300;  // features normalized to 1e303
+  expectLoadError(raw, {"'/mlp'", "could overflow"});
+  raw = RawFile();
+  EXPECT_EQ(mlpParameterProblem(raw.p), "");
+}
+
 TEST(MlpFile, MissingDataset) {
   RawFile raw;
   raw.skip = "/mlp/layer_2/bias";

@@ -739,6 +739,13 @@ TEST(RbfBadInput, PublishedFormat) {
         makeRbfModel({{"file", "text"}}, ctx);
       },
       {tmp.file("text/weights.txt") + ":3", "'abc' is not a number"});
+  // Finite but huge: a centre at 3e306 made every wrench infinite (found by fuzz_rbf_text).
+  tmp.write("huge/inputs.txt", "-0.01 0\n-0.031e308 2.3\n0.06 0\n");
+  tmp.write("huge/weights.txt", weightsText(6));
+  expectInputError([&] { makeRbfModel({{"file", "huge"}}, ctx); }, {tmp.file("huge/inputs.txt"), "centre 2", "|phi| = 3.1e+306 > 1000"});
+  tmp.write("bigw/inputs.txt", kInputs);
+  tmp.write("bigw/weights.txt", "1 2 3\n1 2 3\n1 2 1e200\n1 2 3\n1 2 3\n1 2 3\n");
+  expectInputError([&] { makeRbfModel({{"file", "bigw"}}, ctx); }, {tmp.file("bigw/weights.txt"), "weight of magnitude 1e+200"});
   tmp.write("junk/inputs.txt", "-0.01 0.0x\n");
   tmp.write("junk/weights.txt", "1 2 3\n");
   expectInputError([&] { makeRbfModel({{"file", "junk"}}, ctx); }, {tmp.file("junk/inputs.txt") + ":1", "'0.0x'"});

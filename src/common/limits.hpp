@@ -31,6 +31,18 @@ constexpr int kMaxVertices = 256;
 constexpr std::int64_t kMaxHeightfieldCells = std::int64_t{1} << 24;
 // RBF centres (the published sand model has 103; a fit builds a dense P x P system, 800 MB at 10^4).
 constexpr std::int64_t kMaxRbfCentres = 10000;
+// Magnitudes of an RBF model's numbers, so that every kernel value and their weighted sum stay far
+// inside a double for features within them: centres (φ in m, β in rad; the sand model's lie within
+// 0.2), weights and polynomial coefficients (the sand model's reach 3 x 10^4), the feature scaling
+// and the kernel's epsilon (sand: 5, 1 and 1).
+constexpr double kMaxRbfCentreCoordinate = 1e3;
+// A loaded learned model must give finite wrenches and derivatives for features (φ in m, β in rad)
+// up to this magnitude, which no contact reaches; an MLP whose weights could overflow a double
+// there (a bound propagated through its layers) is refused.
+constexpr double kMaxModelFeature = 1e3;
+constexpr double kMaxModelOutputBound = 1e200;
+constexpr double kMaxRbfWeight = 1e15;
+constexpr double kMaxRbfScale = 1e6;
 // Entries of one numeric array read from an HDF5 file (model weights, dataset columns): 10^8
 // doubles is 800 MB; the sand MLP has 2 x 10^4 weights.
 constexpr std::int64_t kMaxArrayEntries = std::int64_t{100} << 20;
