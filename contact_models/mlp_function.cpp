@@ -580,7 +580,7 @@ MlpModelFile loadMlpModel(const std::string& path) {
 
   // Vectors: a 1-D dataset, or a 2-D one with a single row or column.
   const auto vector = [&](const std::string& name, Eigen::Index n, const std::string& what) {
-    const Eigen::MatrixXd m = file.readMatrix(name);
+    const Eigen::MatrixXd m = file.readMatrix(name, std::max<Eigen::Index>(4 * n, 64));  // a wrong size is named below
     if (m.size() != n || (m.rows() != 1 && m.cols() != 1))
       fail("dataset '" + name + "' must hold " + std::to_string(n) + " values (" + what + "), got " + shape(m));
     if (const std::string bad = firstNonFinite(m); !bad.empty())
@@ -596,7 +596,7 @@ MlpModelFile loadMlpModel(const std::string& path) {
   for (int i = 0; i < layer_count; ++i) {
     const std::string w = layerName(i) + "/weight", b = layerName(i) + "/bias";
     MlpLayer l;
-    l.weight = file.readMatrix(w);
+    l.weight = file.readMatrix(w, kMaxParameters - parameters);
     if (i + 1 == layer_count && l.weight.rows() != 3 * K)
       fail("dataset '" + w + "' is " + shape(l.weight) + ": the output layer must have 3K = " + std::to_string(3 * K) +
            " rows (attribute 'vertices' = " + std::to_string(K) + ")");
@@ -623,7 +623,7 @@ MlpModelFile loadMlpModel(const std::string& path) {
            "and the sagittal leg angle");
   }
   if (file.exists("/mlp/anchors")) {
-    const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors");
+    const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors", 2 * limits::kMaxRbfCentres);
     if (a.cols() != 2 || a.rows() < 1)
       fail("dataset '/mlp/anchors' is " + shape(a) + ", expected (anchors) x 2: the points (phi, beta)");
     if (a.rows() > limits::kMaxRbfCentres)

@@ -461,7 +461,7 @@ RbfModelFile readRbfHdf5(const std::string& path) {
   out.geometry.cutoff_width = positive("cutoff_width", 0.0, true);
   if (const std::string problem = planarGeometryProblem(out.geometry); !problem.empty()) fail("attribute " + problem + " (of '/rbf')");
 
-  const Eigen::MatrixXd centres = file.readMatrix("/rbf/centres");
+  const Eigen::MatrixXd centres = file.readMatrix("/rbf/centres", 2 * limits::kMaxRbfCentres);
   if (centres.rows() < 1 || centres.cols() != 2)
     fail("dataset '/rbf/centres' must be N x 2 (phi, beta), got " + shape(centres));
   if (centres.rows() > limits::kMaxRbfCentres)
@@ -469,7 +469,7 @@ RbfModelFile readRbfHdf5(const std::string& path) {
          std::to_string(limits::kMaxRbfCentres) + " a model may have");
   if (const std::string bad = firstNonFinite(centres); !bad.empty())
     fail("dataset '/rbf/centres' has a non-finite value at " + bad);
-  const Eigen::MatrixXd weights = file.readMatrix("/rbf/weights");
+  const Eigen::MatrixXd weights = file.readMatrix("/rbf/weights", centres.rows() * 3 * limits::kMaxVertices);
   if (weights.rows() != centres.rows() || weights.cols() < 3 || weights.cols() % 3 != 0)
     fail("dataset '/rbf/weights' must be N x 3K with N = " + std::to_string(centres.rows()) +
          " (the rows of '/rbf/centres'), got " + shape(weights));
@@ -478,12 +478,12 @@ RbfModelFile readRbfHdf5(const std::string& path) {
          std::to_string(limits::kMaxVertices) + " a model may have");
   if (const std::string bad = firstNonFinite(weights); !bad.empty())
     fail("dataset '/rbf/weights' has a non-finite value at " + bad);
-  const Eigen::MatrixXd scaling = file.readMatrix("/rbf/scaling");
+  const Eigen::MatrixXd scaling = file.readMatrix("/rbf/scaling", 64);
   if (scaling.size() != 2) fail("dataset '/rbf/scaling' must hold 2 numbers (s_phi, s_beta), got " + shape(scaling));
   if (!(scaling.minCoeff() > 0.0) || !scaling.allFinite())
     fail("dataset '/rbf/scaling' must hold positive finite numbers");
   if (file.exists("/rbf/polynomial")) {
-    p.polynomial = file.readMatrix("/rbf/polynomial");
+    p.polynomial = file.readMatrix("/rbf/polynomial", 4 * 3 * weights.cols());
     if (p.polynomial.rows() != 3 || p.polynomial.cols() != weights.cols())
       fail("dataset '/rbf/polynomial' must be 3 x " + std::to_string(weights.cols()) + " (rows 1, phi, beta), got " +
            shape(p.polynomial));

@@ -1,5 +1,6 @@
 #include "training/force_dataset.hpp"
 
+#include <algorithm>
 #include <charconv>
 #include <cmath>
 #include <filesystem>
@@ -116,8 +117,8 @@ ForceDataset readForceDataset(const std::string& path) {
            std::to_string(kFormatVersion));
   }
   ForceDataset d;
-  d.features = file.readMatrix("/features");
-  const Eigen::MatrixXd vertex = file.readMatrix("/vertex");
+  // /vertex first: its length (one per sample) bounds what the other datasets may hold.
+  const Eigen::MatrixXd vertex = file.readMatrix("/vertex", limits::kMaxForceSamples);
   if (vertex.cols() != 1)
     fail("dataset '/vertex' must be 1-D (one index per sample), got " + shape(vertex.rows(), vertex.cols()));
   d.vertex.resize(vertex.rows());
@@ -128,7 +129,9 @@ ForceDataset readForceDataset(const std::string& path) {
            " at row " + std::to_string(i));
     d.vertex[i] = static_cast<int>(v);
   }
-  d.wrench = file.readMatrix("/wrench");
+  constexpr Eigen::Index kMostColumns = 64;  // real datasets have 2-4 feature and 3 wrench columns
+  d.features = file.readMatrix("/features", std::max<Eigen::Index>(vertex.size() * kMostColumns, kMostColumns));
+  d.wrench = file.readMatrix("/wrench", std::max<Eigen::Index>(vertex.size() * kMostColumns, kMostColumns));
   for (const char* dataset : {"/features", "/wrench"})
     for (const char* attribute : {"names", "units"})
       if (!file.hasAttribute(dataset, attribute))

@@ -63,7 +63,8 @@ bool File::exists(const std::string& object) const {
   return H5Lexists(id_, object.c_str(), H5P_DEFAULT) > 0;
 }
 
-Eigen::MatrixXd File::readMatrix(const std::string& dataset) const {
+Eigen::MatrixXd File::readMatrix(const std::string& dataset, std::int64_t max_values) const {
+  if (max_values < 0 || max_values > limits::kMaxArrayEntries) max_values = limits::kMaxArrayEntries;
   if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
   Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
   if (d.id < 0) fail(path_, "cannot open dataset '" + dataset + "'");
@@ -75,9 +76,9 @@ Eigen::MatrixXd File::readMatrix(const std::string& dataset) const {
   if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
     fail(path_, "dataset '" + dataset + "' is not numeric (expected floating-point or integer values)");
   const hssize_t count = elementCount(space.id);
-  if (count < 0 || count > limits::kMaxArrayEntries)
-    fail(path_, "dataset '" + dataset + "' has " + std::to_string(count) + " values, more than the " +
-                    std::to_string(limits::kMaxArrayEntries) + " an array may have");
+  if (count < 0 || count > max_values)
+    fail(path_, "dataset '" + dataset + "' has " + std::to_string(count) + " values, more than the " + std::to_string(max_values) +
+                    (max_values == limits::kMaxArrayEntries ? " an array may have" : " it may hold"));
   hsize_t dims[2] = {1, 1};
   H5Sget_simple_extent_dims(space.id, dims, nullptr);
   const Eigen::Index rows = static_cast<Eigen::Index>(dims[0]);

@@ -3,6 +3,7 @@
 // Every failure throws InputError naming the file and the dataset or attribute.
 #pragma once
 #include <Eigen/Dense>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,10 @@ class File {
   const std::string& path() const { return path_; }
   bool exists(const std::string& object) const;  // dataset or group, e.g. "/rbf/centres"
 
-  Eigen::MatrixXd readMatrix(const std::string& dataset) const;   // 1-D datasets come back as a column
+  // 1-D datasets come back as a column. A dataset of more than `max_values` values is refused from
+  // its header, before anything is allocated: a reader that knows a dataset's size passes it, so a
+  // file cannot make it allocate more (the default is limits::kMaxArrayEntries).
+  Eigen::MatrixXd readMatrix(const std::string& dataset, std::int64_t max_values = -1) const;
   std::vector<std::string> readStrings(const std::string& dataset) const;
   std::string readStringAttribute(const std::string& object, const std::string& name) const;
   double readDoubleAttribute(const std::string& object, const std::string& name) const;
