@@ -5,6 +5,8 @@
 #include <stdexcept>
 
 #include "common/input_error.hpp"
+#include "common/json_text.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -135,9 +137,10 @@ const std::vector<std::string> kCoulombParameters = {"mu", "K", "k", "p", "zeta"
 
 namespace {
 // readNumber's ranges are closed; a strictly positive parameter gets its own message.
-double readPositive(const nlohmann::json& params, const std::string& key, double fallback, const ConfigContext& ctx) {
-  const double x = readNumber(params, key, fallback, ctx);
-  if (!(x > 0.0)) throw InputError(ctx.where + "." + key + ": value " + params.at(key).dump() + " must be > 0");
+double readPositive(const nlohmann::json& params, const std::string& key, double fallback, const ConfigContext& ctx,
+                    double hi) {
+  const double x = readNumber(params, key, fallback, ctx, -1e12, hi);
+  if (!(x > 0.0)) throw InputError(ctx.where + "." + key + ": value " + jsonForMessage(params.at(key)) + " must be > 0");
   return x;
 }
 }  // namespace
@@ -147,11 +150,12 @@ std::unique_ptr<ContactModel> makeCoulombModel(const nlohmann::json& params, con
   keys.push_back("type");
   requireKnownKeys(params, keys, ctx);
   CoulombParameters c;
-  c.mu = readPositive(params, "mu", c.mu, ctx);
-  c.K = readInteger(params, "K", c.K, ctx, 3, 1000000);
-  c.k = readPositive(params, "k", c.k, ctx);
-  c.p = readNumber(params, "p", c.p, ctx, 2.0, 1e300);
-  c.zeta = readPositive(params, "zeta", c.zeta, ctx);
+  // Ranges far beyond use (μ of rubber on concrete ~1, the default k 1e6) that keep the cone finite.
+  c.mu = readPositive(params, "mu", c.mu, ctx, 100.0);
+  c.K = readInteger(params, "K", c.K, ctx, 3, limits::kMaxVertices);
+  c.k = readPositive(params, "k", c.k, ctx, 1e15);
+  c.p = readNumber(params, "p", c.p, ctx, 2.0, 10.0);
+  c.zeta = readPositive(params, "zeta", c.zeta, ctx, 1.0);
   return std::make_unique<CoulombModel>(c);
 }
 

@@ -13,6 +13,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "common/input_error.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -384,6 +385,12 @@ void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
 
 void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                                   Eigen::MatrixXd* dW_dbeta) const {
+  // One direction is computed as both and the other dropped: the stacked batch then has the same
+  // shape (so the BLAS the same kernels) whichever derivatives are asked for, and dW/dφ alone is
+  // dW/dφ of the pair bit for bit. PlanarWrenchModel always asks for both.
+  Eigen::MatrixXd dropped;
+  if (dW_dphi && !dW_dbeta) dW_dbeta = &dropped;
+  if (dW_dbeta && !dW_dphi) dW_dphi = &dropped;
   const Eigen::Index B = features.rows();
   const Eigen::Index O = 3 * vertexCount();
   W.resize(B, O);
@@ -391,7 +398,7 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   if (dW_dbeta) dW_dbeta->resize(B, O);
   if (B == 0) return;
 
-  // The requested directions (0 = φ, 1 = β); the batch is stacked once per direction.
+  // The directions (0 = φ, 1 = β; none or both); the batch is stacked once per direction.
   Eigen::MatrixXd* outputs[2] = {dW_dphi, dW_dbeta};
   int directions[2], D = 0;
   for (int d = 0; d < 2; ++d)
@@ -438,7 +445,7 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   const torch::Tensor seed_t = torch::from_blob(seed.data(), {R, 3}, options);
 
   if (jacobian_ == MlpJacobian::Tangents) {
-    // Values on B rows exactly as in the value-only pass; the D·B tangent rows through the same
+    // Values on B rows exactly as in the value-only pass; the 2B tangent rows through the same
     // weights: dz = dh A_iᵀ, dh' = σ'(z) ⊙ dz (σ'(z) broadcast over the D direction blocks).
     torch::NoGradGuard no_grad;
     torch::Tensor h = input.slice(0, 0, B), T = seed_t;
@@ -482,6 +489,11 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
 }
 
 // ----- the HDF5 model file -------------------------------------------------------------------------
+
+// An MLP contact model's size: the sand MLP has 2 hidden layers and 2 x 10^4 weights; one with 10^7
+// would take seconds per step.
+constexpr int kMaxLayers = 64;
+constexpr Eigen::Index kMaxParameters = 10000000;
 
 MlpModelFile loadMlpModel(const std::string& path) {
   const h5::File file = h5::File::openRead(path);
@@ -532,12 +544,13 @@ MlpModelFile loadMlpModel(const std::string& path) {
     if (!std::isfinite(x)) fail("attribute '" + name + "' of '/mlp' must be a finite number");
     return x;
   };
-  const int layer_count = integer("layers", 1, 1000);
-  const int K = integer("vertices", 1, 100000);
+  const int layer_count = integer("layers", 1, kMaxLayers);
+  const int K = integer("vertices", 1, limits::kMaxVertices);
   out.geometry.torque_centre = finite("torque_centre");
   out.geometry.cutoff = finite("cutoff");
   out.geometry.cutoff_width = finite("cutoff_width");
   if (!(out.geometry.cutoff_width > 0.0)) fail("attribute 'cutoff_width' of '/mlp' must be positive");
+  if (const std::string problem = planarGeometryProblem(out.geometry); !problem.empty()) fail("attribute " + problem + " (of '/mlp')");
 
   // Vectors: a 1-D dataset, or a 2-D one with a single row or column.
   const auto vector = [&](const std::string& name, Eigen::Index n, const std::string& what) {
@@ -553,7 +566,7 @@ MlpModelFile loadMlpModel(const std::string& path) {
   p.output_scale = vector("/mlp/output_scale", 3 * K, "3 per vertex, attribute 'vertices' = " + std::to_string(K));
   p.output_offset = vector("/mlp/output_offset", 3 * K, "3 per vertex, attribute 'vertices' = " + std::to_string(K));
 
-  Eigen::Index in = 2;
+  Eigen::Index in = 2, parameters = 0;
   for (int i = 0; i < layer_count; ++i) {
     const std::string w = layerName(i) + "/weight", b = layerName(i) + "/bias";
     MlpLayer l;
@@ -567,6 +580,10 @@ MlpModelFile loadMlpModel(const std::string& path) {
                    : "the previous layer " + layerName(i - 1) + " has " + std::to_string(in) + " outputs"));
     }
     l.bias = vector(b, l.weight.rows(), "one per row of '" + w + "'");
+    parameters += l.weight.size() + l.bias.size();
+    if (parameters > kMaxParameters)
+      fail("the layers up to '" + w + "' have " + std::to_string(parameters) + " weights and biases, more than the " +
+           std::to_string(kMaxParameters) + " a contact-model MLP may have");
     p.layers.push_back(std::move(l));
     in = p.layers.back().weight.rows();
   }
@@ -583,6 +600,9 @@ MlpModelFile loadMlpModel(const std::string& path) {
     const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors");
     if (a.cols() != 2 || a.rows() < 1)
       fail("dataset '/mlp/anchors' is " + shape(a) + ", expected (anchors) x 2: the points (phi, beta)");
+    if (a.rows() > limits::kMaxRbfCentres)
+      fail("dataset '/mlp/anchors' has " + std::to_string(a.rows()) + " anchors, more than the " +
+           std::to_string(limits::kMaxRbfCentres) + " a model may have");
     p.anchors = a;
     if (!file.hasAttribute("/mlp", "anchor_radius"))
       fail("dataset '/mlp/anchors' needs the attribute 'anchor_radius' of '/mlp'");

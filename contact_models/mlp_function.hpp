@@ -57,8 +57,8 @@
 // under torch::NoGradGuard (no graph is recorded). dW/dφ and dW/dβ, by one of (MlpJacobian):
 //   * ForwardMode (default): libtorch forward-mode autograd (dual tensors). The input has 2
 //     columns and the output 3K = 78, so the Jacobian is cheapest column by column: the batch is
-//     stacked once per requested direction (block d carries the seed e_d ⊘ input_std) and one
-//     forward pass returns the values and both columns. The weights and biases enter as dual tensors
+//     stacked once per direction (block d carries the seed e_d ⊘ input_std) and one forward pass
+//     returns the values and both columns. The weights and biases enter as dual tensors
 //     with zero tangents (libtorch 1.13's ZeroTensor path for absent tangents is ~1.3× slower).
 //     libtorch 1.13 allows one forward-AD level per process, so these evaluations are serialized by
 //     a mutex private to mlp_function.cpp (value-only passes and the other schemes still run
@@ -67,20 +67,23 @@
 //     "double-backward" Jacobian-vector product): g(u) = Jᵀu for a dummy u with the graph kept,
 //     then ∂(g·seed)/∂u = J·seed. Public API, no process-wide state, ~1.5× slower than ForwardMode.
 //   * Tangents: the same forward-mode tangents coded by hand with torch ops (dz = dh A_iᵀ,
-//     dh' = σ'(z) ⊙ dz), the values on B rows and the tangents on D·B rows: no primal rows are
+//     dh' = σ'(z) ⊙ dz), the values on B rows and the tangents on 2B rows: no primal rows are
 //     duplicated and no AD bookkeeping runs, ~1.7× faster than ForwardMode. derivative() then says
 //     Analytic. The tests check it against both autograd schemes and central differences.
 //   Reverse mode with one-hot output seeds would need the batch stacked 3K times (≈ 20× slower
 //   than ForwardMode, measured: 5.4 ms against 0.24 ms for 4 rows), so it is not offered.
-// All schemes return the same values bit for bit (tested); the value-only pass agrees with them to
-// round-off, since the BLAS may pick a different kernel for its smaller batch.
+// Asking for one derivative computes both and drops the other (both directions are always stacked),
+// so dW/dφ alone is bit for bit dW/dφ of the pair: a smaller batch would let the BLAS pick another
+// kernel (it picks by shape and CPU) and round differently. The schemes and the value-only pass are
+// different computations (batches of B or 2B rows through different ops): they agree to a few ulps of
+// the largest entry (tested), not bit for bit.
 //
 // Threads and determinism: constructing an MlpFunction calls torch::set_num_threads(1), which is
 // PROCESS-GLOBAL in libtorch (it also affects e.g. a trainer in the same process; a trainer that
 // wants more threads must set them after building its MlpFunctions and reset them to 1 before
 // evaluating). With one thread and the fixed summation order of the BLAS, the same evaluation twice
-// is bit-identical, and each row of a batch is bit-identical to evaluating that row alone (the
-// tests check both; a BLAS whose kernels depend on the number of rows could break the second).
+// is bit-identical (tested); a row of a batch agrees with that row evaluated alone to round-off, not
+// bit for bit, since the BLAS picks its kernels by the number of rows.
 // evaluate() is const and keeps no scratch, so one function may be shared by several models and
 // threads. libtorch allocates its tensors on every call: the MLP is exempt from the
 // no-allocation-while-stepping rule.

@@ -35,9 +35,9 @@ std::unique_ptr<ContactModel> makeMlpModel(const nlohmann::json& params, const C
   }
 
   PlanarGeometry geometry = model.geometry;
-  geometry.torque_centre = readNumber(params, "torque_centre", geometry.torque_centre, ctx);
-  geometry.cutoff = readNumber(params, "cutoff", geometry.cutoff, ctx);
-  geometry.cutoff_width = readNumber(params, "cutoff_width", geometry.cutoff_width, ctx, 0.0);
+  geometry.torque_centre = readNumber(params, "torque_centre", geometry.torque_centre, ctx, -kMaxGeometryLength, kMaxGeometryLength);
+  geometry.cutoff = readNumber(params, "cutoff", geometry.cutoff, ctx, -kMaxGeometryLength, kMaxGeometryLength);
+  geometry.cutoff_width = readNumber(params, "cutoff_width", geometry.cutoff_width, ctx, 0.0, kMaxGeometryLength);
   if (!(geometry.cutoff_width > 0.0))
     fail(ctx, "cutoff_width", "must be positive (the wrenches blend to zero over this band below the cut-off)");
 

@@ -6,6 +6,16 @@
 
 namespace nmdp {
 
+std::string planarGeometryProblem(const PlanarGeometry& g) {
+  const auto bad = [](double x) { return !std::isfinite(x) || std::abs(x) > kMaxGeometryLength; };
+  const std::string bound = std::to_string(static_cast<int>(kMaxGeometryLength));
+  if (bad(g.torque_centre)) return "torque_centre must be a finite length of at most " + bound + " m";
+  if (bad(g.cutoff)) return "cutoff must be a finite height of at most " + bound + " m";
+  if (bad(g.cutoff_width) || !(g.cutoff_width > 0.0))
+    return "cutoff_width must be a positive length of at most " + bound + " m (the band below the cut-off)";
+  return "";
+}
+
 double cutoffStep(const PlanarGeometry& g, double phi, double* dsigma) {
   if (!(g.cutoff_width > 0.0)) {  // a hard cut-off, as the published model has
     if (dsigma) *dsigma = 0.0;

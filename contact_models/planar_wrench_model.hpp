@@ -56,6 +56,13 @@ struct PlanarGeometry {
   double cutoff_width = 0.02;   // m: blending band below the cut-off
 };
 
+// The largest |torque_centre|, |cutoff| and cutoff_width a model file or configuration may give (m):
+// RoboSimian's torque centre is 0.16 m up the leg.
+constexpr double kMaxGeometryLength = 100.0;
+// Why `g` cannot be used ("" when it can): a non-finite value, a length beyond kMaxGeometryLength,
+// or a cut-off band that is not positive.
+std::string planarGeometryProblem(const PlanarGeometry& g);
+
 // C² step: 1 for φ ≤ cutoff − width, 0 for φ ≥ cutoff. Returns σ and writes dσ/dφ.
 double cutoffStep(const PlanarGeometry& g, double phi, double* dsigma);
 

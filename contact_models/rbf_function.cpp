@@ -11,6 +11,8 @@
 
 #include "io/hdf5_file.hpp"
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -317,17 +319,14 @@ void RbfFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W,
 
 namespace {
 
+// The published format's files hold centres × vertices weight lines; at the limits of both.
+constexpr std::int64_t kMaxTableValues = 3 * limits::kMaxRbfCentres * limits::kMaxVertices;
+
 // Reads every non-blank, non-comment line of a text file of `columns` numbers per line.
 // Returns the values row by row; `line_numbers` receives the 1-based physical line of each row.
 std::vector<double> readNumberTable(const std::string& path, int columns, const char* layout,
                                     std::vector<int>* line_numbers) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path + ": no such file");
-  if (fs::is_directory(path, ec))
-    throw InputError(path + ": is a folder, expected a text file of '" + layout + "' lines");
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the file");
+  std::istringstream in(readInputFile(path, std::string("text file of '") + layout + "' lines"));
   std::vector<double> values;
   std::string line;
   int number = 0;
@@ -348,18 +347,20 @@ std::vector<double> readNumberTable(const std::string& path, int columns, const 
       double x = 0.0;
       const auto result = std::from_chars(begin, end, x);
       if (result.ec != std::errc() || result.ptr != end)
-        throw InputError(path + ":" + std::to_string(number) + ": '" + token + "' is not a number (expected '" +
-                         layout + "')");
+        throw InputError(path + ":" + std::to_string(number) + ": '" + token.substr(0, 40) + (token.size() > 40 ? "..." : "") +
+                         "' is not a number (expected '" + layout + "')");
       if (!std::isfinite(x))
-        throw InputError(path + ":" + std::to_string(number) + ": non-finite value '" + token + "'");
+        throw InputError(path + ":" + std::to_string(number) + ": non-finite value '" + token.substr(0, 40) + "'");
       values.push_back(x);
     }
+    if (static_cast<std::int64_t>(values.size()) > kMaxTableValues)
+      throw InputError(path + ":" + std::to_string(number) + ": more than " + std::to_string(kMaxTableValues) +
+                       " numbers, beyond any model this format can hold");
     if (count != columns)
       throw InputError(path + ":" + std::to_string(number) + ": expected " + std::to_string(columns) + " numbers '" +
                        layout + "', got " + (count > columns ? "more" : std::to_string(count)));
     if (line_numbers) line_numbers->push_back(number);
   }
-  if (in.bad()) throw InputError(path + ": read error");
   return values;
 }
 
@@ -372,6 +373,9 @@ RbfParameters readPublishedRbf(const std::string& inputs_path, const std::string
   const std::vector<double> centres = readNumberTable(inputs_path, 2, "depth theta", nullptr);
   const Eigen::Index N = static_cast<Eigen::Index>(centres.size() / 2);
   if (N == 0) throw InputError(inputs_path + ": no centres (expected N lines 'depth theta')");
+  if (N > limits::kMaxRbfCentres)
+    throw InputError(inputs_path + ": " + std::to_string(N) + " centres, more than the " + std::to_string(limits::kMaxRbfCentres) +
+                     " a model may have");
   const std::vector<double> weights = readNumberTable(weights_path, 3, "fx fz wy", nullptr);
   const Eigen::Index lines = static_cast<Eigen::Index>(weights.size() / 3);
   if (lines == 0 || lines % N != 0)
@@ -379,6 +383,9 @@ RbfParameters readPublishedRbf(const std::string& inputs_path, const std::string
                      std::to_string(N) + " centres of " + inputs_path +
                      " (expected K*N lines 'fx fz wy', vertex v and centre i on line v*N + i)");
   const Eigen::Index K = lines / N;
+  if (K > limits::kMaxVertices)
+    throw InputError(weights_path + ": " + std::to_string(K) + " vertices, more than the " + std::to_string(limits::kMaxVertices) +
+                     " a model may have");
   p.centres.resize(N, 2);
   for (Eigen::Index i = 0; i < N; ++i) {
     p.centres(i, 0) = centres[2 * i];
@@ -427,16 +434,23 @@ RbfModelFile readRbfHdf5(const std::string& path) {
   out.geometry.torque_centre = finite("torque_centre");
   out.geometry.cutoff = finite("cutoff");
   out.geometry.cutoff_width = positive("cutoff_width", 0.0, true);
+  if (const std::string problem = planarGeometryProblem(out.geometry); !problem.empty()) fail("attribute " + problem + " (of '/rbf')");
 
   const Eigen::MatrixXd centres = file.readMatrix("/rbf/centres");
   if (centres.rows() < 1 || centres.cols() != 2)
     fail("dataset '/rbf/centres' must be N x 2 (phi, beta), got " + shape(centres));
+  if (centres.rows() > limits::kMaxRbfCentres)
+    fail("dataset '/rbf/centres' has " + std::to_string(centres.rows()) + " centres, more than the " +
+         std::to_string(limits::kMaxRbfCentres) + " a model may have");
   if (const std::string bad = firstNonFinite(centres); !bad.empty())
     fail("dataset '/rbf/centres' has a non-finite value at " + bad);
   const Eigen::MatrixXd weights = file.readMatrix("/rbf/weights");
   if (weights.rows() != centres.rows() || weights.cols() < 3 || weights.cols() % 3 != 0)
     fail("dataset '/rbf/weights' must be N x 3K with N = " + std::to_string(centres.rows()) +
          " (the rows of '/rbf/centres'), got " + shape(weights));
+  if (weights.cols() / 3 > limits::kMaxVertices)
+    fail("dataset '/rbf/weights' has " + std::to_string(weights.cols() / 3) + " vertices, more than the " +
+         std::to_string(limits::kMaxVertices) + " a model may have");
   if (const std::string bad = firstNonFinite(weights); !bad.empty())
     fail("dataset '/rbf/weights' has a non-finite value at " + bad);
   const Eigen::MatrixXd scaling = file.readMatrix("/rbf/scaling");

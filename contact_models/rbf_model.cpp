@@ -7,6 +7,8 @@
 #include "contact_models/planar_wrench_model.hpp"
 #include "contact_models/rbf_function.hpp"
 #include "common/input_error.hpp"
+#include "common/json_text.hpp"
+#include "common/input_file.hpp"
 
 namespace nmdp {
 
@@ -58,11 +60,11 @@ std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const C
       published = true;
     } else if (ext == ".h5" || ext == ".hdf5") {
       published = false;
-    } else if (!fs::exists(path, ec)) {
-      fail(ctx, "file", path + ": no such file or folder");
+    } else if (!pathExists(path)) {
+      fail(ctx, "file", displayPath(path) + ": no such file or folder");
     } else {
       fail(ctx, "file",
-           path +
+           displayPath(path) +
                ": cannot tell the format from the name: give an HDF5 file (.h5), a folder with "
                "inputs.txt and weights.txt, or a centres file (.txt), or set \"format\" to "
                "\"published\" or \"hdf5\"");
@@ -82,7 +84,7 @@ std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const C
       fail(ctx, "kernel", "unknown kernel \"" + kernel + "\"; valid kernels: " + rbfKernelNames());
     const std::vector<double> scaling = readNumbers(params, "scaling", {spec.scaling[0], spec.scaling[1]}, ctx);
     if (scaling.size() != 2 || !(scaling[0] > 0.0) || !(scaling[1] > 0.0))
-      fail(ctx, "scaling", "expected two positive numbers [s_phi, s_beta], got " + params.at("scaling").dump());
+      fail(ctx, "scaling", "expected two positive numbers [s_phi, s_beta], got " + jsonForMessage(params.at("scaling")));
     spec.scaling = Eigen::Vector2d(scaling[0], scaling[1]);
     spec.epsilon = readNumber(params, "epsilon", spec.epsilon, ctx, 0.0);
     if (!(spec.epsilon > 0.0)) fail(ctx, "epsilon", "must be positive");
@@ -122,9 +124,9 @@ std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const C
     }
   }
 
-  geometry.torque_centre = readNumber(params, "torque_centre", geometry.torque_centre, ctx);
-  geometry.cutoff = readNumber(params, "cutoff", geometry.cutoff, ctx);
-  geometry.cutoff_width = readNumber(params, "cutoff_width", geometry.cutoff_width, ctx, 0.0);
+  geometry.torque_centre = readNumber(params, "torque_centre", geometry.torque_centre, ctx, -kMaxGeometryLength, kMaxGeometryLength);
+  geometry.cutoff = readNumber(params, "cutoff", geometry.cutoff, ctx, -kMaxGeometryLength, kMaxGeometryLength);
+  geometry.cutoff_width = readNumber(params, "cutoff_width", geometry.cutoff_width, ctx, 0.0, kMaxGeometryLength);
   if (!(geometry.cutoff_width > 0.0))
     fail(ctx, "cutoff_width", "must be positive (the wrenches blend to zero over this band below the cut-off)");
 

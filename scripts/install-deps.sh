@@ -1,13 +1,27 @@
 #!/usr/bin/env bash
 # Installs the Debian packages nmdp needs, only those missing (idempotent; quick when all are there).
+#   scripts/install-deps.sh               # everything: nmdp, the tests, the benchmarks (scripts/test.sh)
+#   scripts/install-deps.sh --demo        # what scripts/demo.sh needs: nmdp and the plot (no GoogleTest,
+#                                         # Google Benchmark or MuJoCo)
+#   scripts/install-deps.sh --sanitizers  # clang 14 with its sanitizer and libFuzzer runtimes and
+#                                         # llvm-symbolizer (CI's sanitizer and fuzzing configuration)
 set -euo pipefail
-packages=(
+nmdp=(
   build-essential cmake pkg-config
   libeigen3-dev liburdfdom-dev libtinyxml-dev libhdf5-dev nlohmann-json3-dev libtorch-dev libopenblas0-pthread
-  googletest libgtest-dev libbenchmark-dev
-  libmujoco-dev libqhull-dev libgl-dev
   python3-matplotlib python3-h5py
 )
+tests=(
+  googletest libgtest-dev libbenchmark-dev
+  libmujoco-dev libqhull-dev libgl-dev
+)
+sanitizers=(clang-14 libclang-rt-14-dev llvm-14)
+case "${1:-}" in
+  "") packages=("${nmdp[@]}" "${tests[@]}") ;;
+  --demo) packages=("${nmdp[@]}") ;;
+  --sanitizers) packages=("${sanitizers[@]}") ;;
+  *) echo "usage: $0 [--demo | --sanitizers]" >&2; exit 2 ;;
+esac
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -10,8 +10,10 @@
 //                            and libstdc++'s operator new calls malloc): counted in malloc_calls.
 // The replacements are definitions: exactly one translation unit of a test executable may include
 // this header with either macro defined (every test executable is one .cpp file).
+// Under AddressSanitizer (or another sanitizer with its own allocator), which owns malloc, the
+// malloc family is counted through the sanitizer's allocation hook instead of by interposition.
 // NMDP_COUNTS_MALLOC is 1 when the malloc family is really counted (NMDP_COUNT_MALLOC defined, on
-// glibc and not under a sanitizer, which owns malloc), else 0.
+// glibc or under such a sanitizer), else 0.
 #pragma once
 #include <atomic>
 #include <cstdlib>
@@ -135,8 +137,18 @@ void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcep
 #if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
 #define NMDP_SANITIZED 1
 #endif
-// Sanitizers own malloc: count operator new only under them.
-#if defined(NMDP_COUNT_MALLOC) && defined(__GLIBC__) && !defined(NMDP_SANITIZED)
+#if defined(NMDP_COUNT_MALLOC) && defined(NMDP_SANITIZED)
+// The sanitizer owns malloc: its hook sees every allocation its allocator serves (the mallocs
+// behind operator new included, as with the interposition below). The hook must not allocate.
+#include <sanitizer/allocator_interface.h>
+#define NMDP_COUNTS_MALLOC 1
+namespace nmdp::test::alloc {
+inline void sanitizerMallocHook(const volatile void*, std::size_t) { noteMalloc(); }
+inline void sanitizerFreeHook(const volatile void*) {}
+[[maybe_unused]] static const int sanitizer_hooks_installed =
+    __sanitizer_install_malloc_and_free_hooks(sanitizerMallocHook, sanitizerFreeHook);
+}  // namespace nmdp::test::alloc
+#elif defined(NMDP_COUNT_MALLOC) && defined(__GLIBC__)
 #define NMDP_COUNTS_MALLOC 1
 extern "C" {
 void* __libc_malloc(std::size_t);

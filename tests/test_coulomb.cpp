@@ -179,7 +179,8 @@ TEST(CoulombTestTerrains, DerivativesMatchFiniteDifferences) {
   const BallTerrain ball(Vec3(0.1, -0.2, -0.5), 0.5);
   const std::vector<std::pair<const Terrain*, Vec3>> cases = {{&parab, Vec3(0.3, -0.4, 0.1)},
                                                               {&ball, Vec3(0.3, 0.1, 0.05)}};
-  for (const auto& [terrain, p] : cases) {
+  for (const auto& [terrain_case, p] : cases) {
+    const Terrain* terrain = terrain_case;  // a structured binding cannot be captured before C++20 (clang)
     TerrainQuery q;
     terrain->query(p, q, true);
     auto f = [&](const Eigen::VectorXd& x) {

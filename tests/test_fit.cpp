@@ -453,7 +453,7 @@ TEST(FitBadData, ExactDuplicateSamplesAndMissingVertices) {
   ForceDataset huge = syntheticDataset(2, {-0.02, -0.01}, {0.0});
   huge.vertex[2] = 1000000000;  // would size the grouping by 1e9 vertices
   expectAll(inputErrorMessage([&] { groupPlanarSamples(huge, "huge.h5"); }),
-            {"huge.h5", "'/vertex'", "index 1000000000 at row 2", "only 4 samples"});
+            {"huge.h5", "'/vertex'", "index 1000000000 at row 2", "at most 256 vertices"});
 }
 
 TEST(FitBadData, WrongColumns) {

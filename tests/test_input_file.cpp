@@ -92,6 +92,15 @@ TEST(JsonText, RefusesDeepNestingBeforeParsing) {
   EXPECT_NO_THROW(parseJson(ok, "ok"));
 }
 
+TEST(JsonText, AKeyGivenTwiceInOneObjectIsRefused) {
+  EXPECT_EQ(messageOf([] { parseJson("{\"duration\": 1, \"robot\": {}, \"duration\": 2}", "s.json"); }),
+            "s.json: invalid JSON: the key \"duration\" appears twice in one object");
+  EXPECT_NE(messageOf([] { parseOrderedJson("{\"a\": {\"b\": 1, \"b\": 1}}", "o.json"); }).find("\"b\" appears twice"),
+            std::string::npos);
+  // The same key in two objects, or in an object within an array, is no duplicate.
+  EXPECT_NO_THROW(parseJson("{\"a\": {\"k\": 1}, \"b\": {\"k\": 2}, \"c\": [{\"k\": 1}, {\"k\": 2}]}", "ok"));
+}
+
 TEST(JsonText, NumberOverflowIsAnInputError) {
   const std::string message = messageOf([] { parseJson("1e309", "--set duration=1e309"); });
   EXPECT_EQ(message.rfind("--set duration=1e309: invalid JSON: number overflow", 0), 0u) << message;

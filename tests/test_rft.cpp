@@ -394,7 +394,7 @@ TEST(GenRftCli, BadInputGivesOneClearLine) {
   const std::string bad = dir.write("bad.json", R"({"foot": {"shape": "disc", "radius": 0.02, "widht": 0.04}})");
   expectCliError({"gen-rft", "--config", bad, "--out", dir.file("x")}, dir, {bad, "foot.widht", "did you mean 'width'"});
   const std::string broken = dir.write("broken.json", "{\"foot\": ");
-  expectCliError({"gen-rft", "--config", broken, "--out", dir.file("x")}, dir, {broken, "not valid JSON"});
+  expectCliError({"gen-rft", "--config", broken, "--out", dir.file("x")}, dir, {broken + ":1:", "invalid JSON"});
   expectCliError({"gen-rft", "--config", dir.file("missing.json"), "--out", dir.file("x")}, dir, {"missing.json"});
   expectCliError({"gen-rft"}, dir, {"--out"});
   expectCliError({"gen-rft", "--out", dir.file("x"), "--depth", "1"}, dir, {"--depth"});

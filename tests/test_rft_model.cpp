@@ -5,8 +5,8 @@
 //            --model rbf --out data/granular/rft_quadruped_rbf.h5
 //  * the commands, run again into a temporary folder, give the shipped samples (numerically, to
 //    1e-12) and a model that predicts the shipped model's wrenches and derivatives at random foot
-//    placements to 1e-12 of the largest wrench of the data: the shipped files are what the
-//    commands make, not edited by hand;
+//    placements to the round-off of its fit (cond(A)·ε of the largest entry, 1.5e-10): the shipped
+//    files are what the commands make, not edited by hand;
 //  * the model is the documented one: 13 vertices, an upright foot 1.5 cm deep bears a quarter
 //    of the quadruped's weight (42.7 N, the choice of ζ), zero above the surface, and no vertex
 //    pulls the foot down (the directions sampled are those that do not lift the foot);
@@ -19,6 +19,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <random>
 #include <sstream>
@@ -116,6 +117,19 @@ ContactWrenches evaluate(const ContactModel& model, const ContactFrame& frame, b
   return out[0];
 }
 
+// The reciprocal condition number that `nmdp fit` reports for a model file's RBF system (its /fit
+// report: "reciprocal condition number 1.51e-06, ..."); 0 when the report has none.
+double reportedReciprocalCondition(const std::string& model) {
+  const std::string report = h5::File::openRead(model).readStringAttribute("/fit", "report");
+  const std::string key = "reciprocal condition number ";
+  const size_t at = report.find(key);
+  if (at == std::string::npos) return 0.0;
+  std::istringstream in(report.substr(at + key.size()));
+  double rcond = 0.0;
+  in >> rcond;
+  return in ? rcond : 0.0;
+}
+
 // ---- 1. the shipped files are what the written commands make --------------------------------------
 
 TEST(RftQuadrupedModel, TheCommandsRegenerateTheShippedSamplesAndModel) {
@@ -153,8 +167,16 @@ TEST(RftQuadrupedModel, TheCommandsRegenerateTheShippedSamplesAndModel) {
       largest_dv = std::max(largest_dv, a.dV[k].cwiseAbs().maxCoeff());
     }
   }
-  EXPECT_LE(worst_v, 1e-12 * scale) << "the regenerated model's wrenches differ from the shipped ones";
-  EXPECT_LE(worst_dv, 1e-12 * largest_dv) << "the regenerated model's derivatives differ from the shipped ones";
+  // The shipped model was fitted on one machine with one compiler. Another CPU or compiler (FMA or
+  // not, another vector width) rounds the thin-plate solve differently, by up to about cond(A)·ε of
+  // the largest entry: 2.2e-16 / 1.51e-6 = 1.5e-10 for this fit (measured: 1.3e-11 of the largest
+  // derivative with clang 14 against the GCC-built file; 0 on the machine that wrote it). A change
+  // to the commands, the data or the fit settings moves the model by orders of magnitude more.
+  const double rcond = reportedReciprocalCondition(model);
+  ASSERT_GT(rcond, 0.0) << "the fit report gives no reciprocal condition number";
+  const double round_off = std::numeric_limits<double>::epsilon() / rcond;
+  EXPECT_LE(worst_v, round_off * scale) << "the regenerated model's wrenches differ from the shipped ones";
+  EXPECT_LE(worst_dv, round_off * largest_dv) << "the regenerated model's derivatives differ from the shipped ones";
 }
 
 // ---- 2. the model is the documented one ---------------------------------------------------------

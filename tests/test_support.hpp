@@ -4,7 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
+#include <cmath>
 #include <functional>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -107,6 +109,20 @@ inline Eigen::MatrixXd centralDifference(const std::function<Eigen::VectorXd(con
 // max |A − B| relative to the largest entry of B (at least `floor`).
 inline double relativeError(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B, double floor = 1e-12) {
   return (A - B).cwiseAbs().maxCoeff() / std::max(B.cwiseAbs().maxCoeff(), floor);
+}
+
+// max |A − B| in units in the last place of the largest entry of A and B: how far apart two different
+// computations of one quantity are (another BLAS kernel, another summation order), for a bound of a
+// few ulps where bit-identity would hold on one CPU only. 0 for equal matrices, infinity for
+// different shapes or a NaN.
+inline double ulpsOfLargest(const Eigen::MatrixXd& A, const Eigen::MatrixXd& B) {
+  if (A.rows() != B.rows() || A.cols() != B.cols()) return std::numeric_limits<double>::infinity();
+  if (A.size() == 0) return 0.0;
+  const double largest = std::max(A.cwiseAbs().maxCoeff(), B.cwiseAbs().maxCoeff());
+  const double difference = (A - B).cwiseAbs().maxCoeff();
+  if (std::isnan(largest) || std::isnan(difference)) return std::numeric_limits<double>::infinity();
+  if (difference == 0.0) return 0.0;
+  return difference / (std::nextafter(largest, std::numeric_limits<double>::infinity()) - largest);
 }
 
 }  // namespace nmdp::test

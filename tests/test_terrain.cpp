@@ -531,8 +531,8 @@ TEST_F(TerrainBadInput, MissingFile) {
   const std::string m = configError(json{{"type", "heightfield"}, {"file", "no_such.csv"}, {"spacing", 0.1}});
   EXPECT_MESSAGE_HAS(m, "scene.json: terrain.file");
   EXPECT_MESSAGE_HAS(m, dir_.file("no_such.csv"));
-  EXPECT_MESSAGE_HAS(m, "not found");
-  EXPECT_MESSAGE_HAS(configError(json{{"type", "heightfield"}, {"file", "."}, {"spacing", 0.1}}), "not a regular file");
+  EXPECT_MESSAGE_HAS(m, "no such file");
+  EXPECT_MESSAGE_HAS(configError(json{{"type", "heightfield"}, {"file", "."}, {"spacing", 0.1}}), "it is a folder, not a file");
   EXPECT_MESSAGE_HAS(configError(json{{"type", "heightfield"}, {"spacing", 0.1}}), "terrain.file: missing");
 }
 

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "common/input_error.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -108,6 +109,10 @@ PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& set
   // Worst case: every point mirrored, every (height, angle) added.
   const Eigen::Index angle_bound = settings.above_angles.empty() ? 2 * P : settings.above_angles.size();
   const Eigen::Index capacity = 2 * P + static_cast<Eigen::Index>(settings.above_heights.size()) * angle_bound;
+  if (capacity * 3 * K > limits::kMaxArrayEntries)
+    throw InputError("augmentation.above_surface: " + std::to_string(settings.above_heights.size()) + " heights x " +
+                     std::to_string(angle_bound) + " angles over " + std::to_string(P) + " points of " + std::to_string(K) +
+                     " vertices is more data than a fit takes (" + std::to_string(limits::kMaxArrayEntries) + " values)");
   PlanarPoints out;
   out.features.resize(capacity, 2);
   out.values.resize(capacity, 3 * K);

@@ -6,6 +6,8 @@
 #include <cmath>
 
 #include "common/input_error.hpp"
+#include "common/json_text.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -38,7 +40,7 @@ ConfigContext child(const ConfigContext& ctx, const std::string& key) { return {
 const nlohmann::json& section(const nlohmann::json& config, const std::string& key, const ConfigContext& ctx) {
   static const nlohmann::json empty = nlohmann::json::object();
   if (!config.contains(key)) return empty;
-  if (!config.at(key).is_object()) fail(ctx, key, "expected a JSON object, got " + config.at(key).dump());
+  if (!config.at(key).is_object()) fail(ctx, key, "expected a JSON object, got " + jsonForMessage(config.at(key)));
   return config.at(key);
 }
 }  // namespace
@@ -65,13 +67,15 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   const nlohmann::json& above = section(a, "above_surface", actx);
   requireKnownKeys(above, {"heights", "angles"}, sctx);
   aug.above_heights = readNumbers(above, "heights", {}, sctx);
+  if (aug.above_heights.size() > 1000) fail(sctx, "heights", "more than 1000 heights");
   for (double h : aug.above_heights)
     if (!(h > 0.0))
-      fail(sctx, "heights", "every height must be > 0 (above the surface), got " + above.at("heights").dump());
+      fail(sctx, "heights", "every height must be > 0 (above the surface), got " + jsonForMessage(above.at("heights")));
   if (above.contains("angles") && !(above.at("angles").is_string() && above.at("angles") == "data")) {
     if (!above.at("angles").is_array() || above.at("angles").empty())
-      fail(sctx, "angles", "expected \"data\" or a non-empty list of angles (rad), got " + above.at("angles").dump());
+      fail(sctx, "angles", "expected \"data\" or a non-empty list of angles (rad), got " + jsonForMessage(above.at("angles")));
     aug.above_angles = readNumbers(above, "angles", {}, sctx);
+    if (aug.above_angles.size() > 1000) fail(sctx, "angles", "more than 1000 angles");
   }
 
   const ConfigContext rctx = child(ctx, "rbf");
@@ -85,7 +89,7 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   if (!(rbf.spec.epsilon > 0.0)) fail(rctx, "epsilon", "must be > 0");
   const std::vector<double> scaling = readNumbers(r, "scaling", {rbf.spec.scaling[0], rbf.spec.scaling[1]}, rctx);
   if (scaling.size() != 2 || !(scaling[0] > 0.0) || !(scaling[1] > 0.0))
-    fail(rctx, "scaling", "expected two positive numbers [s_phi, s_beta], got " + r.at("scaling").dump());
+    fail(rctx, "scaling", "expected two positive numbers [s_phi, s_beta], got " + jsonForMessage(r.at("scaling")));
   rbf.spec.scaling = Eigen::Vector2d(scaling[0], scaling[1]);
   rbf.ridge = readNumber(r, "ridge", 0.0, rctx, 0.0);
   rbf.polynomial = readBool(r, "polynomial_tail", false, rctx);
@@ -100,6 +104,12 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   MlpFitSettings& mlp = out.mlp;
   mlp.hidden_layers = readInteger(m, "hidden_layers", mlp.hidden_layers, mctx, 0, 100);
   mlp.width = readInteger(m, "width", mlp.width, mctx, 1, 100000);
+  // The network's weights, for up to 256 vertices: as many as a contact-model file may hold (1e7).
+  const double weights = static_cast<double>(mlp.hidden_layers > 0 ? mlp.hidden_layers - 1 : 0) * mlp.width * mlp.width +
+                         static_cast<double>(mlp.width) * (3.0 * limits::kMaxVertices + 3.0);
+  if (weights > 1e7)
+    fail(mctx, "width", "a network of " + std::to_string(mlp.hidden_layers) + " hidden layers of " + std::to_string(mlp.width) +
+                            " units has more than the 1e7 weights a contact-model MLP may have");
   const std::string activation = readString(m, "activation", activationName(mlp.activation), mctx);
   if (!parseActivation(activation, &mlp.activation)) {
     std::string lower = activation;
@@ -111,7 +121,7 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   }
   if (m.contains("max_epochs") && m.at("max_epochs").is_number() && m.at("max_epochs").get<double>() < 1)
     fail(mctx, "max_epochs", "must be at least 1 (the number of passes over the training points), got " +
-                                 m.at("max_epochs").dump());
+                                 jsonForMessage(m.at("max_epochs")));
   mlp.max_epochs = readInteger(m, "max_epochs", mlp.max_epochs, mctx, 1, 100000000);
   mlp.learning_rate = readNumber(m, "learning_rate", mlp.learning_rate, mctx);
   if (!(mlp.learning_rate > 0.0)) fail(mctx, "learning_rate", "must be > 0");
@@ -122,11 +132,11 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   if (!(mlp.validation_fraction >= 0.0 && mlp.validation_fraction < 1.0))
     fail(mctx, "validation_fraction",
          "must be in [0, 1) (the share of the points held out for early stopping), got " +
-             m.at("validation_fraction").dump());
+             jsonForMessage(m.at("validation_fraction")));
   mlp.patience = readInteger(m, "patience", mlp.patience, mctx, 0, 100000000);
   const double seed = readNumber(m, "seed", mlp.seed, mctx);
   if (!(seed >= 0.0 && seed < 4294967296.0) || seed != std::floor(seed))
-    fail(mctx, "seed", "must be an integer in [0, 4294967295], got " + m.at("seed").dump());
+    fail(mctx, "seed", "must be an integer in [0, 4294967295], got " + jsonForMessage(m.at("seed")));
   mlp.seed = static_cast<std::uint32_t>(seed);
   mlp.weight_decay = readNumber(m, "weight_decay", mlp.weight_decay, mctx, 0.0);
   const std::string loss = readString(m, "loss", mlpLossName(mlp.loss), mctx);
@@ -141,15 +151,16 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
   mlp.threads = readInteger(m, "threads", mlp.threads, mctx, 1, 1024);
   const std::vector<double> grid = readNumbers(m, "teacher_grid", {0.0, 0.0}, mctx);
   if (grid.size() != 2 || grid[0] < 0 || grid[1] < 0 || grid[0] != std::floor(grid[0]) ||
-      grid[1] != std::floor(grid[1]) || grid[0] > 10000 || grid[1] > 10000 || ((grid[0] == 0) != (grid[1] == 0)))
+      grid[1] != std::floor(grid[1]) || grid[0] * grid[1] > 1e6 || ((grid[0] == 0) != (grid[1] == 0)))
     fail(mctx, "teacher_grid",
-         "expected [n_phi, n_beta]: two integers >= 1 (the RBF teacher's grid), or [0, 0] for none, got " +
-             m.at("teacher_grid").dump());
+         "expected [n_phi, n_beta]: two integers >= 1 with n_phi n_beta <= 1e6 (the RBF teacher's grid), or [0, 0] for none, got " +
+             jsonForMessage(m.at("teacher_grid")));
   mlp.teacher_grid = {static_cast<int>(grid[0]), static_cast<int>(grid[1])};
   mlp.teacher_refinement = readNumbers(m, "teacher_refinement", mlp.teacher_refinement, mctx);
+  if (mlp.teacher_refinement.size() > 100) fail(mctx, "teacher_refinement", "more than 100 angle offsets");
   for (double offset : mlp.teacher_refinement)
     if (!(offset > 0.0 && offset < 10.0))
-      fail(mctx, "teacher_refinement", "expected angle offsets in (0, 10) rad, got " + m.at("teacher_refinement").dump());
+      fail(mctx, "teacher_refinement", "expected angle offsets in (0, 10) rad, got " + jsonForMessage(m.at("teacher_refinement")));
   const std::string envelope = readString(m, "output_envelope", mlpOutputEnvelopeName(mlp.output_envelope), mctx);
   if (!parseMlpOutputEnvelope(envelope, &mlp.output_envelope))
     fail(mctx, "output_envelope",

@@ -3,13 +3,15 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <sstream>
 #include <utility>
 
-#include "io/hdf5_file.hpp"
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
+#include "common/limits.hpp"
+#include "contact_models/planar_wrench_model.hpp"
+#include "io/hdf5_file.hpp"
 
 namespace nmdp {
 
@@ -26,6 +28,9 @@ std::string num(double x) {
 }
 
 std::string shape(Eigen::Index rows, Eigen::Index cols) { return std::to_string(rows) + "x" + std::to_string(cols); }
+
+// A text field as messages show it: at most 60 characters.
+std::string shown(const std::string& text) { return text.size() <= 60 ? text : text.substr(0, 60) + "..."; }
 
 void checkFinite(const Eigen::MatrixXd& m, const std::string& where, const std::string& dataset) {
   for (Eigen::Index r = 0; r < m.rows(); ++r)
@@ -73,6 +78,9 @@ void validateForceDataset(const ForceDataset& d, const std::string& where) {
   if (N < 1 || d.features.cols() < 1)
     throw InputError(where + ": dataset '/features' must be N x F with N >= 1 samples and F >= 1 features, got " +
                      shape(N, d.features.cols()));
+  if (N > limits::kMaxForceSamples)
+    throw InputError(where + ": " + std::to_string(N) + " samples, more than the " + std::to_string(limits::kMaxForceSamples) +
+                     " a dataset may have");
   if (d.vertex.size() != N)
     throw InputError(where + ": dataset '/vertex' has " + std::to_string(d.vertex.size()) +
                      " entries, dataset '/features' has " + std::to_string(N) + " rows: one vertex index per sample");
@@ -82,15 +90,17 @@ void validateForceDataset(const ForceDataset& d, const std::string& where) {
   checkFinite(d.features, where, "/features");
   checkFinite(d.wrench, where, "/wrench");
   for (Eigen::Index i = 0; i < N; ++i)
-    if (d.vertex[i] < 0)
-      throw InputError(where + ": dataset '/vertex' has a negative index (" + num(d.vertex[i]) + ") at row " +
-                       std::to_string(i));
+    if (d.vertex[i] < 0 || d.vertex[i] >= limits::kMaxVertices)
+      throw InputError(where + ": dataset '/vertex' has the index " + std::to_string(d.vertex[i]) + " at row " + std::to_string(i) +
+                       ", outside [0, " + std::to_string(limits::kMaxVertices - 1) + "] (a wrench space has at most " +
+                       std::to_string(limits::kMaxVertices) + " vertices)");
   checkNames(d.feature_names, d.features.cols(), where, "/features", "names");
   checkNames(d.feature_units, d.features.cols(), where, "/features", "units");
   checkNames(d.wrench_names, d.wrench.cols(), where, "/wrench", "names");
   checkNames(d.wrench_units, d.wrench.cols(), where, "/wrench", "units");
-  if (d.torque_centre && !std::isfinite(*d.torque_centre))
-    throw InputError(where + ": attribute 'torque_centre' of '/' must be a finite number");
+  if (d.torque_centre && !(std::abs(*d.torque_centre) <= kMaxGeometryLength))
+    throw InputError(where + ": attribute 'torque_centre' of '/' must be a finite length of at most " +
+                     num(kMaxGeometryLength) + " m, got " + num(*d.torque_centre));
 }
 
 ForceDataset readForceDataset(const std::string& path) {
@@ -113,8 +123,9 @@ ForceDataset readForceDataset(const std::string& path) {
   d.vertex.resize(vertex.rows());
   for (Eigen::Index i = 0; i < vertex.rows(); ++i) {
     const double v = vertex(i, 0);
-    if (!std::isfinite(v) || v != std::round(v) || v < 0 || v > 1e9)
-      fail("dataset '/vertex' must hold integers >= 0, got " + num(v) + " at row " + std::to_string(i));
+    if (!std::isfinite(v) || v != std::round(v) || v < 0 || v >= limits::kMaxVertices)
+      fail("dataset '/vertex' must hold integers in [0, " + std::to_string(limits::kMaxVertices - 1) + "], got " + num(v) +
+           " at row " + std::to_string(i));
     d.vertex[i] = static_cast<int>(v);
   }
   d.wrench = file.readMatrix("/wrench");
@@ -175,10 +186,7 @@ bool parseDouble(const std::string& token, double* x) {
 // A CSV file whose first line is exactly `header` (after trimming each field) and whose other
 // non-blank lines hold as many finite numbers.
 CsvTable readCsv(const std::string& path, const std::vector<std::string>& header) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the file");
+  std::istringstream in(readInputFile(path, "CSV file"));
   CsvTable t;
   std::string line;
   int number = 0;
@@ -194,7 +202,7 @@ CsvTable readCsv(const std::string& path, const std::vector<std::string>& header
     if (!have_header) {
       if (fields != header)
         throw InputError(path + ":" + std::to_string(number) + ": the header must be \"" + joinNames(header) +
-                         "\" (comma-separated), got \"" + trim(line) + "\"");
+                         "\" (comma-separated), got \"" + shown(trim(line)) + "\"");
       have_header = true;
       continue;
     }
@@ -204,16 +212,18 @@ CsvTable readCsv(const std::string& path, const std::vector<std::string>& header
     std::vector<double> row(fields.size());
     for (size_t c = 0; c < fields.size(); ++c) {
       if (!parseDouble(fields[c], &row[c]))
-        throw InputError(path + ":" + std::to_string(number) + ": column '" + header[c] + "': '" + fields[c] +
+        throw InputError(path + ":" + std::to_string(number) + ": column '" + header[c] + "': '" + shown(fields[c]) +
                          "' is not a number");
       if (!std::isfinite(row[c]))
         throw InputError(path + ":" + std::to_string(number) + ": column '" + header[c] + "': non-finite value '" +
-                         fields[c] + "'");
+                         shown(fields[c]) + "'");
     }
+    if (static_cast<std::int64_t>(t.rows.size()) >= limits::kMaxForceSamples)
+      throw InputError(path + ":" + std::to_string(number) + ": more than " + std::to_string(limits::kMaxForceSamples) +
+                       " rows, more than a dataset may have");
     t.rows.push_back(std::move(row));
     t.lines.push_back(number);
   }
-  if (in.bad()) throw InputError(path + ": read error");
   if (!have_header) throw InputError(path + ": empty file (expected the header \"" + joinNames(header) + "\")");
   if (t.rows.empty()) throw InputError(path + ": no data rows after the header");
   return t;
@@ -221,10 +231,7 @@ CsvTable readCsv(const std::string& path, const std::vector<std::string>& header
 
 // scalars.txt: "name value" lines.
 std::map<std::string, double> readScalars(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path + ": no such file");
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the file");
+  std::istringstream in(readInputFile(path, "scalars file"));
   std::map<std::string, double> out;
   std::string line;
   int number = 0;
@@ -236,17 +243,18 @@ std::map<std::string, double> readScalars(const std::string& path) {
     s >> name >> value;
     double x = 0;
     if (value.empty() || (s >> extra) || !parseDouble(value, &x) || !std::isfinite(x))
-      throw InputError(path + ":" + std::to_string(number) + ": expected 'name value', got \"" + trim(line) + "\"");
+      throw InputError(path + ":" + std::to_string(number) + ": expected 'name value', got \"" + shown(trim(line)) + "\"");
     out[name] = x;
   }
   return out;
 }
 
-int countScalar(const std::map<std::string, double>& scalars, const std::string& name, const std::string& path) {
+int countScalar(const std::map<std::string, double>& scalars, const std::string& name, const std::string& path,
+                int most) {
   const auto it = scalars.find(name);
   if (it == scalars.end()) throw InputError(path + ": '" + name + "' is missing");
-  if (it->second != std::round(it->second) || it->second < 1)
-    throw InputError(path + ": '" + name + "' must be a positive integer, got " + num(it->second));
+  if (it->second != std::round(it->second) || it->second < 1 || it->second > most)
+    throw InputError(path + ": '" + name + "' must be an integer in [1, " + std::to_string(most) + "], got " + num(it->second));
   return static_cast<int>(it->second);
 }
 
@@ -256,15 +264,15 @@ ForceDataset importSandSamplesCsv(const std::string& folder) {
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!fs::is_directory(folder, ec))
-    throw InputError(folder + ": not a folder (expected features.csv, wrench_samples.csv and scalars.txt)");
+    throw InputError(displayPath(folder) + ": not a folder (expected features.csv, wrench_samples.csv and scalars.txt)");
   const std::string features_path = (fs::path(folder) / "features.csv").string();
   const std::string samples_path = (fs::path(folder) / "wrench_samples.csv").string();
   const std::string scalars_path = (fs::path(folder) / "scalars.txt").string();
   const CsvTable points = readCsv(features_path, {"depth", "theta"});
   const CsvTable samples = readCsv(samples_path, {"depth", "theta", "vel_index", "fx", "fz", "wy"});
   const std::map<std::string, double> scalars = readScalars(scalars_path);
-  const int K = countScalar(scalars, "Nvel", scalars_path);
-  const int P = countScalar(scalars, "Ntheta", scalars_path);
+  const int K = countScalar(scalars, "Nvel", scalars_path, limits::kMaxVertices);
+  const int P = countScalar(scalars, "Ntheta", scalars_path, static_cast<int>(limits::kMaxForceSamples));
   if (static_cast<int>(points.rows.size()) != P)
     throw InputError(features_path + ": " + std::to_string(points.rows.size()) + " feature points, " + scalars_path +
                      " says Ntheta " + std::to_string(P));

@@ -9,6 +9,7 @@
 
 #include "io/hdf5_file.hpp"
 #include "common/input_error.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -39,6 +40,9 @@ RbfFit fitRbf(const PlanarPoints& points, const RbfFitSettings& settings, const 
                      (settings.polynomial ? " (with the polynomial tail)" : "") + " distinct points");
   if (!points.values.allFinite() || !points.features.allFinite())
     throw InputError(where + ": non-finite feature or wrench after augmentation");
+  if (P > limits::kMaxRbfCentres)
+    throw InputError(where + ": " + std::to_string(P) + " feature points after augmentation, more than the " +
+                     std::to_string(limits::kMaxRbfCentres) + " centres an RBF model may have (its fit solves a dense P x P system)");
 
   // A = [Φ + λI, P; Pᵀ, 0].
   const Eigen::MatrixX2d scaled = points.features * spec.scaling.asDiagonal();

@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <set>
 
 #include "common/input_error.hpp"
+#include "common/json_text.hpp"
+#include "common/limits.hpp"
 #include "io/json_params.hpp"
 
 namespace nmdp {
@@ -26,7 +29,7 @@ std::string join(const std::vector<std::string>& items) {
 // `object` (at `where: path`) must be an object with keys from `valid` only.
 void checkKeys(const json& object, const std::string& where, const std::string& path,
                const std::vector<std::string>& valid) {
-  if (!object.is_object()) throw InputError(where + (path.empty() ? "" : ": " + path) + ": expected a JSON object, got " + object.dump());
+  if (!object.is_object()) throw InputError(where + (path.empty() ? "" : ": " + path) + ": expected a JSON object, got " + jsonForMessage(object));
   for (auto it = object.begin(); it != object.end(); ++it) {
     if (std::find(valid.begin(), valid.end(), it.key()) != valid.end()) continue;
     const std::string near = closestMatch(it.key(), valid);
@@ -40,15 +43,20 @@ const json& child(const json& object, const std::string& key) {
   return object.contains(key) ? object.at(key) : kEmpty;
 }
 
+// Depths and angles of one grid; the directions are the wrench space's vertices.
+constexpr size_t kMaxGridValues = 1000;
+
 std::vector<double> readDistinct(const json& object, const std::string& key, const std::vector<double>& fallback,
                                  const ConfigContext& ctx, double lo, double hi, const std::string& range) {
   const std::vector<double> v = readNumbers(object, key, fallback, ctx);
   const std::string at = ctx.where + "." + key;
   if (v.empty()) throw InputError(at + ": expected at least one value");
+  if (v.size() > kMaxGridValues)
+    throw InputError(at + ": " + std::to_string(v.size()) + " values, more than the " + std::to_string(kMaxGridValues) + " a grid may have");
+  std::set<double> seen;
   for (size_t i = 0; i < v.size(); ++i) {
     if (v[i] < lo || v[i] > hi) throw InputError(at + ": " + json(v[i]).dump() + " is outside " + range);
-    for (size_t j = 0; j < i; ++j)
-      if (v[j] == v[i]) throw InputError(at + ": " + json(v[i]).dump() + " is listed twice (each point once)");
+    if (!seen.insert(v[i]).second) throw InputError(at + ": " + json(v[i]).dump() + " is listed twice (each point once)");
   }
   return v;
 }
@@ -124,12 +132,12 @@ RftFoot readFoot(const json& f, const std::string& where, ojson& resolved) {
 std::vector<RftTwist> readDirections(const json& d, const std::string& where, ojson& resolved) {
   const std::string path = "grid.directions";
   const ConfigContext ctx{where + ": " + path, ""};
-  if (!d.is_object()) throw InputError(where + ": " + path + ": expected a JSON object, got " + d.dump());
+  if (!d.is_object()) throw InputError(where + ": " + path + ": expected a JSON object, got " + jsonForMessage(d));
   const std::string type = readString(d, "type", "circle", ctx);
   resolved = {{"type", type}};
   if (type == "circle") {
     checkKeys(d, where, path, {"type", "count"});
-    const int count = readInteger(d, "count", 26, ctx, 1, 100000);
+    const int count = readInteger(d, "count", 26, ctx, 1, limits::kMaxVertices);
     resolved["count"] = count;
     return rftCircleDirections(count);
   }
@@ -147,15 +155,18 @@ std::vector<RftTwist> readDirections(const json& d, const std::string& where, oj
     const std::string at = where + ": " + path + ".twists";
     if (!d.contains("twists") || !d.at("twists").is_array() || d.at("twists").empty())
       throw InputError(at + ": expected a non-empty list of [vx, vz, omega] (m/s, m/s, rad/s)");
+    if (d.at("twists").size() > static_cast<size_t>(limits::kMaxVertices))
+      throw InputError(at + ": " + std::to_string(d.at("twists").size()) + " twists, more than the " +
+                       std::to_string(limits::kMaxVertices) + " vertices a wrench space may have");
     std::vector<RftTwist> out;
     for (size_t i = 0; i < d.at("twists").size(); ++i) {
       const json& t = d.at("twists")[i];
       const std::string ti = at + "[" + std::to_string(i) + "]";
       if (!t.is_array() || t.size() != 3)
-        throw InputError(ti + ": expected [vx, vz, omega] (m/s, m/s, rad/s), got " + t.dump());
+        throw InputError(ti + ": expected [vx, vz, omega] (m/s, m/s, rad/s), got " + jsonForMessage(t));
       for (const json& x : t)
-        if (!x.is_number() || !std::isfinite(x.get<double>()))
-          throw InputError(ti + ": expected three finite numbers, got " + t.dump());
+        if (!x.is_number() || !std::isfinite(x.get<double>()) || std::abs(x.get<double>()) > 1e6)
+          throw InputError(ti + ": expected three finite numbers of magnitude at most 1e6, got " + jsonForMessage(t));
       const RftTwist tw{t[0].get<double>(), t[1].get<double>(), t[2].get<double>()};
       if (tw.vx == 0 && tw.vz == 0 && tw.omega == 0) throw InputError(ti + ": a zero twist is no direction");
       out.push_back(tw);
@@ -169,6 +180,8 @@ std::vector<RftTwist> readDirections(const json& d, const std::string& where, oj
                                   "; types: " + join(types));
 }
 }  // namespace
+
+constexpr double kMaxStressEvaluations = 1e9;
 
 RftConfig readRftConfig(const json& config, const std::string& where) {
   checkKeys(config, where, "", {"medium", "foot", "grid"});
@@ -185,6 +198,12 @@ RftConfig readRftConfig(const json& config, const std::string& where) {
   c.grid.angles = readDistinct(g, "angles", {0.0, 0.3, 0.6, 0.9}, gctx, -kHalfPi, kHalfPi, "[-pi/2, pi/2] (rad)");
   c.grid.directions =
       readDirections(g.contains("directions") ? g.at("directions") : json{{"type", "circle"}}, where, directions);
+  // The work of gen-rft is samples × elements evaluations of the stress: bounded to seconds.
+  const double samples = static_cast<double>(c.grid.depths.size() * c.grid.angles.size() * c.grid.directions.size());
+  if (samples > static_cast<double>(limits::kMaxForceSamples) || samples * c.foot.elements > kMaxStressEvaluations)
+    throw InputError(where + ": grid: " + std::to_string(c.grid.depths.size()) + " depths x " + std::to_string(c.grid.angles.size()) +
+                     " angles x " + std::to_string(c.grid.directions.size()) + " directions x " + std::to_string(c.foot.elements) +
+                     " foot elements is more work than gen-rft takes (at most 1e9 element evaluations)");
   grid["depths"] = c.grid.depths;
   grid["angles"] = c.grid.angles;
   grid["directions"] = directions;

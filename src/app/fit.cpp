@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "app/json_argument.hpp"
 #include "app/progress_bar.hpp"
 #include "common/input_error.hpp"
 #include "io/json_params.hpp"
@@ -38,28 +39,6 @@ const char* const kFitHelp =
     "  --import-csv FOLDER convert a sand_samples-layout folder to a force dataset and stop\n";
 
 namespace {
-// FIT.json, or the JSON object itself given inline ('{...}', as nmdp wrench --model takes it).
-nlohmann::json readConfig(const std::string& path, ConfigContext& ctx) {
-  const size_t first = path.find_first_not_of(" \t");
-  if (first != std::string::npos && path[first] == '{') {
-    ctx.where = "--config";
-    try {
-      return nlohmann::json::parse(path);
-    } catch (const nlohmann::json::parse_error& e) {
-      throw InputError(std::string("--config: not valid JSON: ") + e.what());
-    }
-  }
-  std::ifstream in(path);
-  if (!in) throw InputError("--config " + path + ": cannot open the file");
-  ctx.where = path;
-  ctx.base_dir = std::filesystem::path(path).parent_path().string();
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(path + ": not valid JSON: " + e.what());
-  }
-}
-
 // The MLP training progress: one line redrawn in place with '\r' (at most 10 times a second),
 // "epoch 1200/20000 [=====     ] train 1.2e-04 val 3.4e-04 best 1100 (3.1e-04) lr 1.0e-03 2.3 s".
 // Disabled (nothing written) when the stream is not a terminal or with --quiet (ProgressBar's rule).
@@ -169,7 +148,7 @@ int runFit(const Args& args) {
   FitConfig fit_config;
   if (!config.empty()) {
     ConfigContext ctx;
-    const nlohmann::json json = readConfig(config, ctx);
+    const nlohmann::json json = readJsonArgument("--config", config, ctx);
     fit_config = parseFitConfig(json, ctx);
   }
   const ForceDataset dataset = loadData(data);

@@ -4,6 +4,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "app/json_argument.hpp"
 #include "common/input_error.hpp"
 #include "io/output_path.hpp"
 #include "training/force_dataset.hpp"
@@ -30,26 +31,6 @@ const char* const kGenRftHelp =
     "                     force dataset (training/force_dataset.hpp)\n";
 
 namespace {
-nlohmann::json readConfigArgument(const std::string& text, std::string& where) {
-  const size_t first = text.find_first_not_of(" \t");
-  if (first != std::string::npos && text[first] == '{') {
-    where = "--config";
-    try {
-      return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-      throw InputError("--config: not valid JSON: " + std::string(e.what()));
-    }
-  }
-  where = text;
-  std::ifstream in(text);
-  if (!in) throw InputError(text + ": cannot open the file");
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(text + ": not valid JSON: " + std::string(e.what()));
-  }
-}
-
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
@@ -65,7 +46,9 @@ int runGenRft(const Args& args) {
       return args[++i];
     };
     if (a == "--config") {
-      config = readConfigArgument(next(), where);
+      ConfigContext ctx;
+      config = readJsonArgument("--config", next(), ctx);
+      where = ctx.where;
     } else if (a == "--out") {
       out = next();
     } else {

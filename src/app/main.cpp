@@ -1,8 +1,12 @@
+#include <cstdio>
 #include <cstring>
+#include <string>
+#include <filesystem>
 #include <iostream>
 
 #include "app/commands.hpp"
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
 
 namespace {
 
@@ -25,6 +29,25 @@ const Command kCommands[] = {
     {"gen-rft", "wrench samples from resistive force theory over a foot shape, for nmdp fit", nmdp::app::runGenRft,
      &nmdp::app::kGenRftHelp},
 };
+
+// A message as one line of readable length: control characters (a newline in a JSON key, a byte of
+// a binary file echoed back) are escaped and a message longer than 4000 characters is cut in the middle.
+std::string oneLine(const std::string& text) {
+  std::string out;
+  for (const char c : text) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (u >= 0x20 && u != 0x7f) {
+      out += c;
+    } else {
+      char escaped[8];
+      std::snprintf(escaped, sizeof escaped, "\\x%02x", u);
+      out += escaped;
+    }
+  }
+  constexpr size_t kMost = 4000;
+  if (out.size() > kMost) out = out.substr(0, kMost / 2) + " ... " + out.substr(out.size() - kMost / 2);
+  return out;
+}
 
 void printUsage(std::ostream& out) {
   out << "nmdp - legged robots on rigid and granular ground with learned contact models\n\n"
@@ -51,14 +74,20 @@ int main(int argc, char** argv) {
     try {
       return c.run(args);
     } catch (const nmdp::InputError& e) {
-      std::cerr << "nmdp " << c.name << ": error: " << e.what() << "\n";
+      std::cerr << "nmdp " << c.name << ": error: " << oneLine(e.what()) << "\n";
       return 1;
+    } catch (const std::filesystem::filesystem_error& e) {  // a path the system refused (readers check theirs first)
+      std::cerr << "nmdp " << c.name << ": error: " << oneLine(nmdp::displayPath(e.path1().string()) + ": " + e.code().message()) << "\n";
+      return 1;
+    } catch (const std::bad_alloc&) {
+      std::cerr << "nmdp " << c.name << ": internal error: out of memory\n";
+      return 3;
     } catch (const std::exception& e) {
-      std::cerr << "nmdp " << c.name << ": internal error: " << e.what() << "\n";
+      std::cerr << "nmdp " << c.name << ": internal error: " << oneLine(e.what()) << "\n";
       return 3;
     }
   }
-  std::cerr << "nmdp: unknown command '" << argv[1] << "'\n\n";
+  std::cerr << "nmdp: unknown command '" << oneLine(argv[1]) << "'\n\n";
   printUsage(std::cerr);
   return 2;
 }

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "app/commands.hpp"
+#include "app/json_argument.hpp"
 #include "contact_models/registry.hpp"
 #include "common/input_error.hpp"
 #include "terrain/terrain_factory.hpp"
@@ -27,38 +28,29 @@ const char* const kWrenchHelp =
     "  --derivatives      also print dV/dξ (models without a derivative refuse)\n";
 
 namespace {
-// A JSON object given inline or as a file; the context names where it came from.
-nlohmann::json readJsonArgument(const std::string& option, const std::string& text, ConfigContext& ctx) {
-  const bool inline_json = !text.empty() && text.find_first_not_of(" \t") != std::string::npos &&
-                           text[text.find_first_not_of(" \t")] == '{';
-  if (inline_json) {
-    ctx.where = option;
-    ctx.base_dir = "";
-    try {
-      return nlohmann::json::parse(text);
-    } catch (const nlohmann::json::parse_error& e) {
-      throw InputError(option + ": not valid JSON: " + e.what());
-    }
-  }
-  std::ifstream in(text);
-  if (!in) throw InputError(option + " " + text + ": cannot open the file");
-  ctx.where = text + ": " + option.substr(2);  // e.g. "foot.json: model", then ".mu"
-  ctx.base_dir = std::filesystem::path(text).parent_path().string();
-  try {
-    return nlohmann::json::parse(in);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(text + ": not valid JSON: " + e.what());
-  }
+// A JSON object given inline or as a file; the context names where it came from, e.g. "foot.json:
+// model" for a file, so that a key inside reads "foot.json: model.mu".
+nlohmann::json readModelArgument(const std::string& option, const std::string& text, ConfigContext& ctx) {
+  nlohmann::json value = readJsonArgument(option, text, ctx);
+  if (ctx.where != option) ctx.where += ": " + option.substr(2);
+  return value;
 }
 
-double parseNumber(const std::string& option, const std::string& text) {
+// A number of magnitude at most `most` (in the option's unit).
+double parseNumber(const std::string& option, const std::string& text, double most) {
+  const std::string shown = text.size() <= 40 ? text : text.substr(0, 40) + "...";
   try {
     size_t used = 0;
     const double v = std::stod(text, &used);
-    if (used == text.size() && std::isfinite(v)) return v;
+    if (used == text.size() && std::isfinite(v)) {
+      if (std::abs(v) > most) throw InputError(option + ": '" + shown + "' is beyond " + std::to_string(most));
+      return v;
+    }
+  } catch (const InputError&) {
+    throw;
   } catch (const std::exception&) {
   }
-  throw InputError(option + ": '" + text + "' is not a finite number");
+  throw InputError(option + ": '" + shown + "' is not a finite number");
 }
 
 nlohmann::json matrixJson(const Mat6X& M) {
@@ -80,23 +72,23 @@ int runWrench(const Args& args) {
       return args[++i];
     };
     if (a == "--model") {
-      model_json = readJsonArgument(a, next(), model_ctx);
+      model_json = readModelArgument(a, next(), model_ctx);
       have_model = true;
     } else if (a == "--terrain") {
-      terrain_json = readJsonArgument(a, next(), terrain_ctx);
+      terrain_json = readModelArgument(a, next(), terrain_ctx);
     } else if (a == "--depth") {
-      depth = parseNumber(a, next());
+      depth = parseNumber(a, next(), 1e3);
     } else if (a == "--angle") {
-      angle = parseNumber(a, next());
+      angle = parseNumber(a, next(), 1e3);
     } else if (a == "--radius") {
-      radius = parseNumber(a, next());
+      radius = parseNumber(a, next(), 10.0);
       if (radius < 0) throw InputError("--radius: must be >= 0");
     } else if (a == "--at") {
       const std::string& v = next();
       const auto comma = v.find(',');
-      if (comma == std::string::npos) throw InputError("--at expects X,Y, got '" + v + "'");
-      x = parseNumber(a, v.substr(0, comma));
-      y = parseNumber(a, v.substr(comma + 1));
+      if (comma == std::string::npos) throw InputError("--at expects X,Y, got '" + v.substr(0, 40) + "'");
+      x = parseNumber(a, v.substr(0, comma), 1e9);
+      y = parseNumber(a, v.substr(comma + 1), 1e9);
     } else if (a == "--derivatives") {
       derivatives = true;
     } else {

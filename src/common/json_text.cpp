@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <optional>
+#include <set>
+#include <vector>
 
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
@@ -57,8 +59,24 @@ Json parse(const std::string& text, const std::string& where) {
   if (const std::optional<size_t> at = tooDeep(text))
     throw InputError(where + ":" + position(text, *at) + ": invalid JSON: nested more than " +
                      std::to_string(limits::kMaxJsonDepth) + " levels deep");
+  // Keys seen in each object being parsed: a key given twice is refused (nlohmann::json would keep the
+  // last silently, so one of two values the user wrote would be ignored).
+  std::vector<std::set<std::string>> keys;
+  std::string duplicate;
+  const auto callback = [&](int, typename Json::parse_event_t event, Json& parsed) {
+    if (event == Json::parse_event_t::object_start) keys.emplace_back();
+    else if (event == Json::parse_event_t::object_end && !keys.empty()) keys.pop_back();
+    else if (event == Json::parse_event_t::key && !keys.empty() && !keys.back().insert(parsed.template get<std::string>()).second &&
+             duplicate.empty())
+      duplicate = parsed.template get<std::string>();
+    return true;
+  };
   try {
-    return Json::parse(text);
+    Json value = Json::parse(text, callback);
+    if (!duplicate.empty())
+      throw InputError(where + ": invalid JSON: the key \"" + (duplicate.size() > 80 ? duplicate.substr(0, 80) + "..." : duplicate) +
+                       "\" appears twice in one object");
+    return value;
   } catch (const typename Json::parse_error& e) {
     throw InputError(where + ":" + position(text, e.byte == 0 ? 0 : e.byte - 1) + ": invalid JSON: " + withoutPrefix(e.what()));
   } catch (const typename Json::exception& e) {  // out_of_range.406: a number too large for a double
@@ -88,7 +106,7 @@ nlohmann::json loadJsonFile(const std::string& path, const std::string& what) {
 bool isJson(const std::string& text) {
   if (tooDeep(text)) return false;
   try {
-    (void)nlohmann::json::parse(text);
+    const nlohmann::json parsed = nlohmann::json::parse(text);
   } catch (const nlohmann::json::parse_error&) {
     return false;
   } catch (const nlohmann::json::exception&) {  // JSON, but a number overflows: parseJson says so

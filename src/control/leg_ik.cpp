@@ -1,14 +1,9 @@
 #include "control/leg_ik.hpp"
 
-#include <console_bridge/console.h>
-#include <urdf_parser/urdf_parser.h>
-
 #include <Eigen/Cholesky>
 #include <Eigen/SVD>
 #include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <sstream>
 #include <stdexcept>
 
 #include "multibody/feet.hpp"
@@ -17,12 +12,6 @@
 namespace nmdp {
 
 namespace {
-
-// The URDF already passed the loader's checks; re-reading it must not print its warnings again.
-class SilentHandler : public console_bridge::OutputHandler {
- public:
-  void log(const std::string&, console_bridge::LogLevel, const char*, int) override {}
-};
 
 Eigen::VectorXd zeroIfEmpty(const Model& model, const Eigen::VectorXd& q) {
   return q.size() == 0 ? Eigen::VectorXd::Zero(model.nq) : q;
@@ -37,29 +26,9 @@ JointLimits JointLimits::unlimited(int nq) {
 
 JointLimits readJointLimits(const Model& model) {
   JointLimits limits = JointLimits::unlimited(model.nq);
-  std::ifstream file(model.source);
-  if (!file) return limits;
-  std::stringstream xml;
-  xml << file.rdbuf();
-  SilentHandler silent;
-  console_bridge::useOutputHandler(&silent);
-  urdf::ModelInterfaceSharedPtr urdf;
-  try {
-    urdf = urdf::parseURDF(xml.str());
-  } catch (const std::exception&) {
-    urdf.reset();
-  }
-  console_bridge::restorePreviousOutputHandler();
-  if (!urdf) return limits;
   for (int i = 0; i < model.nq; ++i) {
-    const Body& body = model.bodies[i];
-    if (body.is_base) continue;
-    const urdf::JointConstSharedPtr joint = urdf->getJoint(body.joint_name);
-    if (!joint || !joint->limits) continue;
-    if (joint->type != urdf::Joint::REVOLUTE && joint->type != urdf::Joint::PRISMATIC) continue;
-    if (!(joint->limits->lower < joint->limits->upper)) continue;  // URDF's "no limit" is 0, 0
-    limits.lower[i] = joint->limits->lower;
-    limits.upper[i] = joint->limits->upper;
+    limits.lower[i] = model.bodies[i].lower_limit;
+    limits.upper[i] = model.bodies[i].upper_limit;
   }
   return limits;
 }

@@ -39,9 +39,9 @@ struct JointLimits {
   static JointLimits unlimited(int nq);
 };
 
-// The <limit> of every revolute or prismatic URDF joint of the model, read from Model::source
-// (the Model does not store them). Unlimited where the URDF has none (continuous joints, base
-// coordinates, lower ≥ upper) or when the source cannot be read.
+// The <limit> of every revolute or prismatic URDF joint of the model (Body::lower_limit and
+// upper_limit, kept by the loader). Unlimited where the URDF has none (continuous joints, base
+// coordinates, lower ≥ upper).
 JointLimits readJointLimits(const Model& model);
 
 // One leg per detected foot, in detectFeet order. A foot whose chain from the trunk has no

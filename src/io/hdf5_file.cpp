@@ -1,17 +1,28 @@
 #include "io/hdf5_file.hpp"
 
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
+#include "common/limits.hpp"
 #include "io/hdf5_handle.hpp"
 #include "io/output_path.hpp"
 
 namespace nmdp::h5 {
 
 namespace {
-[[noreturn]] void fail(const std::string& file, const std::string& what) { throw InputError(file + ": " + what); }
+[[noreturn]] void fail(const std::string& file, const std::string& what) { throw InputError(displayPath(file) + ": " + what); }
+
+// HDF5 files nmdp reads (model files, datasets, trajectories): the largest real one is a few MB.
+constexpr std::uintmax_t kMaxHdf5FileBytes = std::uintmax_t{16} << 30;  // 16 GiB
+// Strings read from a file (names, settings, configuration text).
+constexpr size_t kMaxStringBytes = size_t{64} << 20;
+constexpr hssize_t kMaxStrings = 1 << 20;
+
+// The number of elements of a dataset's or attribute's dataspace (-1 if it cannot be read).
+hssize_t elementCount(hid_t space) { return space < 0 ? -1 : H5Sget_simple_extent_npoints(space); }
 }  // namespace
 
 File::File(long long id, std::string path, std::string final_path)
@@ -29,7 +40,7 @@ File::~File() {
 
 File File::openRead(const std::string& path) {
   silenceHdf5();
-  if (!std::filesystem::exists(path)) fail(path, "no such file");
+  requireRegularFile(path, "HDF5 file", kMaxHdf5FileBytes);
   if (H5Fis_hdf5(path.c_str()) <= 0) fail(path, "not an HDF5 file");
   const hid_t id = openReadOnly(path);
   if (id < 0) fail(path, "cannot open the HDF5 file");
@@ -67,6 +78,14 @@ Eigen::MatrixXd File::readMatrix(const std::string& dataset) const {
   Handle space{H5Dget_space(d.id), H5Sclose};
   const int rank = H5Sget_simple_extent_ndims(space.id);
   if (rank < 1 || rank > 2) fail(path_, "dataset '" + dataset + "' must be 1-D or 2-D, it has rank " + std::to_string(rank));
+  Handle type{H5Dget_type(d.id), H5Tclose};
+  const H5T_class_t type_class = H5Tget_class(type.id);
+  if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
+    fail(path_, "dataset '" + dataset + "' is not numeric (expected floating-point or integer values)");
+  const hssize_t count = elementCount(space.id);
+  if (count < 0 || count > limits::kMaxArrayEntries)
+    fail(path_, "dataset '" + dataset + "' has " + std::to_string(count) + " values, more than the " +
+                    std::to_string(limits::kMaxArrayEntries) + " an array may have");
   hsize_t dims[2] = {1, 1};
   H5Sget_simple_extent_dims(space.id, dims, nullptr);
   const Eigen::Index rows = static_cast<Eigen::Index>(dims[0]);
@@ -80,9 +99,14 @@ Eigen::MatrixXd File::readMatrix(const std::string& dataset) const {
 std::vector<std::string> File::readStrings(const std::string& dataset) const {
   if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
   Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
+  if (d.id < 0) fail(path_, "cannot open dataset '" + dataset + "'");
   Handle space{H5Dget_space(d.id), H5Sclose};
   hsize_t n = 0;
   if (H5Sget_simple_extent_ndims(space.id) != 1) fail(path_, "dataset '" + dataset + "' must be a 1-D list of strings");
+  Handle stored{H5Dget_type(d.id), H5Tclose};
+  if (H5Tget_class(stored.id) != H5T_STRING) fail(path_, "dataset '" + dataset + "' is not a list of strings");
+  if (elementCount(space.id) > kMaxStrings)
+    fail(path_, "dataset '" + dataset + "' has more than " + std::to_string(kMaxStrings) + " strings");
   H5Sget_simple_extent_dims(space.id, &n, nullptr);
   Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
   H5Tset_size(type.id, H5T_VARIABLE);
@@ -91,8 +115,13 @@ std::vector<std::string> File::readStrings(const std::string& dataset) const {
   if (n > 0 && H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0)
     fail(path_, "dataset '" + dataset + "' is not a list of strings");
   std::vector<std::string> out;
-  for (char* s : raw) out.emplace_back(s ? s : "");
+  size_t total = 0;
+  for (char* s : raw) {
+    out.emplace_back(s ? s : "");
+    total += out.back().size();
+  }
   if (n > 0) H5Dvlen_reclaim(type.id, space.id, H5P_DEFAULT, raw.data());
+  if (total > kMaxStringBytes) fail(path_, "dataset '" + dataset + "' holds more than " + std::to_string(kMaxStringBytes) + " bytes of text");
   return out;
 }
 
@@ -106,6 +135,9 @@ std::string File::readStringAttribute(const std::string& object, const std::stri
   Handle a{H5Aopen_by_name(id_, object.c_str(), name.c_str(), H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
   Handle stored{H5Aget_type(a.id), H5Tclose};
   if (H5Tget_class(stored.id) != H5T_STRING) fail(path_, "attribute '" + name + "' of '" + object + "' is not a string");
+  Handle space{H5Aget_space(a.id), H5Sclose};
+  if (elementCount(space.id) != 1)
+    fail(path_, "attribute '" + name + "' of '" + object + "' must be one string, it holds " + std::to_string(elementCount(space.id)));
   if (H5Tis_variable_str(stored.id) > 0) {
     Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
     H5Tset_size(type.id, H5T_VARIABLE);
@@ -117,12 +149,13 @@ std::string File::readStringAttribute(const std::string& object, const std::stri
     return out;
   }
   const size_t size = H5Tget_size(stored.id);
+  if (size == 0 || size > kMaxStringBytes) fail(path_, "attribute '" + name + "' of '" + object + "' is not a string of a usable size");
   std::string out(size, '\0');
   Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
   H5Tset_size(type.id, size);
   H5Tset_cset(type.id, H5Tget_cset(stored.id));
   if (H5Aread(a.id, type.id, out.data()) < 0) fail(path_, "cannot read attribute '" + name + "' of '" + object + "'");
-  while (!out.empty() && out.back() == '\0') out.pop_back();
+  out.resize(std::strlen(out.c_str()));  // fixed-length strings are padded with NULs (or end at the first)
   return out;
 }
 
@@ -132,6 +165,9 @@ double File::readDoubleAttribute(const std::string& object, const std::string& n
   Handle stored{H5Aget_type(a.id), H5Tclose};
   if (H5Tget_class(stored.id) != H5T_FLOAT && H5Tget_class(stored.id) != H5T_INTEGER)
     fail(path_, "attribute '" + name + "' of '" + object + "' is not a number");
+  Handle space{H5Aget_space(a.id), H5Sclose};
+  if (elementCount(space.id) != 1)
+    fail(path_, "attribute '" + name + "' of '" + object + "' must be one number, it holds " + std::to_string(elementCount(space.id)));
   double value = 0;
   if (H5Aread(a.id, H5T_NATIVE_DOUBLE, &value) < 0) fail(path_, "cannot read attribute '" + name + "' of '" + object + "'");
   return value;

@@ -5,6 +5,7 @@
 #include <filesystem>
 
 #include "common/input_error.hpp"
+#include "common/json_text.hpp"
 
 namespace nmdp {
 
@@ -38,9 +39,13 @@ std::string join(const std::vector<std::string>& items) {
 }  // namespace
 
 std::string closestMatch(const std::string& word, const std::vector<std::string>& candidates) {
+  // Edit distance is quadratic: names longer than any real key or joint get no suggestion.
+  constexpr size_t kLongest = 256;
   std::string best;
+  if (word.size() > kLongest) return best;
   size_t best_distance = std::max<size_t>(3, word.size() / 2) + 1;
   for (const std::string& c : candidates) {
+    if (c.size() > kLongest) continue;
     const size_t d = editDistance(word, c);
     if (d < best_distance) {
       best_distance = d;
@@ -51,7 +56,7 @@ std::string closestMatch(const std::string& word, const std::vector<std::string>
 }
 
 void requireKnownKeys(const nlohmann::json& object, const std::vector<std::string>& valid, const ConfigContext& ctx) {
-  if (!object.is_object()) fail(ctx, "", "expected a JSON object, got " + object.dump());
+  if (!object.is_object()) fail(ctx, "", "expected a JSON object, got " + jsonForMessage(object));
   for (auto it = object.begin(); it != object.end(); ++it) {
     if (std::find(valid.begin(), valid.end(), it.key()) != valid.end()) continue;
     const std::string near = closestMatch(it.key(), valid);
@@ -63,13 +68,13 @@ double readNumber(const nlohmann::json& object, const std::string& key, double f
                   double lo, double hi) {
   if (!object.contains(key)) return fallback;
   const nlohmann::json& v = object.at(key);
-  if (!v.is_number()) fail(ctx, key, "expected a number, got " + v.dump());
+  if (!v.is_number()) fail(ctx, key, "expected a number, got " + jsonForMessage(v));
   const double x = v.get<double>();
   if (!std::isfinite(x)) fail(ctx, key, "expected a finite number");
   if (x < lo || x > hi) {
     std::string range = "[" + (lo <= -1e299 ? std::string("-inf") : nlohmann::json(lo).dump()) + ", " +
                         (hi >= 1e299 ? std::string("inf") : nlohmann::json(hi).dump()) + "]";
-    fail(ctx, key, "value " + v.dump() + " is out of range " + range);
+    fail(ctx, key, "value " + jsonForMessage(v) + " is out of range " + range);
   }
   return x;
 }
@@ -78,9 +83,11 @@ int readInteger(const nlohmann::json& object, const std::string& key, int fallba
                 int hi) {
   if (!object.contains(key)) return fallback;
   const nlohmann::json& v = object.at(key);
-  if (!v.is_number_integer()) fail(ctx, key, "expected an integer, got " + v.dump());
-  const long long x = v.get<long long>();
-  if (x < lo || x > hi) fail(ctx, key, "value " + v.dump() + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
+  if (!v.is_number_integer()) fail(ctx, key, "expected an integer, got " + jsonForMessage(v));
+  const long long x = v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi)
+                          ? static_cast<long long>(hi) + 1
+                          : v.get<long long>();
+  if (x < lo || x > hi) fail(ctx, key, "value " + jsonForMessage(v) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return static_cast<int>(x);
 }
 
@@ -88,14 +95,14 @@ std::string readString(const nlohmann::json& object, const std::string& key, con
                        const ConfigContext& ctx) {
   if (!object.contains(key)) return fallback;
   const nlohmann::json& v = object.at(key);
-  if (!v.is_string()) fail(ctx, key, "expected a string, got " + v.dump());
+  if (!v.is_string()) fail(ctx, key, "expected a string, got " + jsonForMessage(v));
   return v.get<std::string>();
 }
 
 bool readBool(const nlohmann::json& object, const std::string& key, bool fallback, const ConfigContext& ctx) {
   if (!object.contains(key)) return fallback;
   const nlohmann::json& v = object.at(key);
-  if (!v.is_boolean()) fail(ctx, key, "expected true or false, got " + v.dump());
+  if (!v.is_boolean()) fail(ctx, key, "expected true or false, got " + jsonForMessage(v));
   return v.get<bool>();
 }
 
@@ -103,10 +110,11 @@ std::vector<double> readNumbers(const nlohmann::json& object, const std::string&
                                 const std::vector<double>& fallback, const ConfigContext& ctx) {
   if (!object.contains(key)) return fallback;
   const nlohmann::json& v = object.at(key);
-  if (!v.is_array()) fail(ctx, key, "expected a list of numbers, got " + v.dump());
+  if (!v.is_array()) fail(ctx, key, "expected a list of numbers, got " + jsonForMessage(v));
   std::vector<double> out;
   for (const nlohmann::json& x : v) {
-    if (!x.is_number() || !std::isfinite(x.get<double>())) fail(ctx, key, "expected a list of finite numbers, got " + v.dump());
+    if (!x.is_number() || !std::isfinite(x.get<double>()) || std::abs(x.get<double>()) > 1e12)
+      fail(ctx, key, "expected a list of finite numbers of magnitude at most 1e12, got " + jsonForMessage(v));
     out.push_back(x.get<double>());
   }
   return out;
@@ -115,7 +123,7 @@ std::vector<double> readNumbers(const nlohmann::json& object, const std::string&
 Vec3 readVec3(const nlohmann::json& object, const std::string& key, const Vec3& fallback, const ConfigContext& ctx) {
   if (!object.contains(key)) return fallback;
   const std::vector<double> v = readNumbers(object, key, {}, ctx);
-  if (v.size() != 3) fail(ctx, key, "expected three numbers [x, y, z], got " + object.at(key).dump());
+  if (v.size() != 3) fail(ctx, key, "expected three numbers [x, y, z], got " + jsonForMessage(object.at(key)));
   return Vec3(v[0], v[1], v[2]);
 }
 

@@ -20,8 +20,10 @@ struct ConfigContext {
 // closest one) or is not a JSON object.
 void requireKnownKeys(const nlohmann::json& object, const std::vector<std::string>& valid, const ConfigContext& ctx);
 
+// A finite number in [lo, hi]; no parameter means anything beyond 1e12 in magnitude (in its SI unit),
+// and below it products of two stay finite.
 double readNumber(const nlohmann::json& object, const std::string& key, double fallback, const ConfigContext& ctx,
-                  double lo = -1e300, double hi = 1e300);
+                  double lo = -1e12, double hi = 1e12);
 int readInteger(const nlohmann::json& object, const std::string& key, int fallback, const ConfigContext& ctx, int lo,
                 int hi);
 std::string readString(const nlohmann::json& object, const std::string& key, const std::string& fallback,

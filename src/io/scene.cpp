@@ -4,15 +4,19 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <limits>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
 #include "control/hermite_spline.hpp"
 #include "control/leg_ik.hpp"
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
+#include "common/json_text.hpp"
+#include "common/limits.hpp"
+#include "common/utf8.hpp"
 #include "io/json_params.hpp"
 #include "multibody/data.hpp"
 #include "multibody/feet.hpp"
@@ -47,7 +51,7 @@ std::string suggestion(const std::string& word, const std::vector<std::string>& 
 }
 
 void checkObject(const json& v, const Where& w) {
-  if (!v.is_object()) w.fail("expected a JSON object, got " + v.dump());
+  if (!v.is_object()) w.fail("expected a JSON object, got " + jsonForMessage(v));
 }
 
 void checkKeys(const json& obj, const Where& w, const std::vector<std::string>& valid) {
@@ -81,13 +85,18 @@ std::string rangeText(Bound lo, Bound hi) {
   return "must be in " + std::string(lo.open ? "(" : "[") + fmt(lo.value) + ", " + fmt(hi.value) + (hi.open ? ")" : "]");
 }
 
+// No number of a scene means anything beyond this magnitude (in its SI unit), and below it products
+// of two stay finite.
+constexpr double kMaxMagnitude = 1e12;
+
 double checkNumber(const json& v, const Where& w, Bound lo = kNoLow, Bound hi = kNoHigh) {
-  if (!v.is_number()) w.fail("expected a number, got " + v.dump());
+  if (!v.is_number()) w.fail("expected a number, got " + jsonForMessage(v));
   const double x = v.get<double>();
-  if (!std::isfinite(x)) w.fail("expected a finite number, got " + v.dump());
+  if (!std::isfinite(x)) w.fail("expected a finite number, got " + jsonForMessage(v));
   const bool low_ok = lo.open ? x > lo.value : x >= lo.value;
   const bool high_ok = hi.open ? x < hi.value : x <= hi.value;
-  if (!low_ok || !high_ok) w.fail(rangeText(lo, hi) + ", got " + v.dump());
+  if (!low_ok || !high_ok) w.fail(rangeText(lo, hi) + ", got " + jsonForMessage(v));
+  if (std::abs(x) > kMaxMagnitude) w.fail(rangeText(atLeast(-kMaxMagnitude), atMost(kMaxMagnitude)) + ", got " + jsonForMessage(v));
   return x;
 }
 
@@ -106,50 +115,59 @@ std::optional<double> optionalNumber(const json& obj, const std::string& key, co
 int integer(const json& obj, const std::string& key, int fallback, const Where& w, int lo, int hi = 1000000000) {
   if (!obj.contains(key)) return fallback;
   const json& v = obj.at(key);
-  if (!v.is_number_integer()) (w / key).fail("expected an integer, got " + v.dump());
-  const long long x = v.get<long long>();
+  if (!v.is_number_integer()) (w / key).fail("expected an integer, got " + jsonForMessage(v));
+  const long long x = v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi)
+                          ? static_cast<long long>(hi) + 1
+                          : v.get<long long>();
   if (x < lo || x > hi)
-    (w / key).fail(hi >= 1000000000 ? "must be >= " + std::to_string(lo) + ", got " + v.dump()
-                                    : "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + v.dump());
+    (w / key).fail(hi >= 1000000000 ? "must be >= " + std::to_string(lo) + ", got " + jsonForMessage(v)
+                                    : "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "], got " + jsonForMessage(v));
   return static_cast<int>(x);
 }
 
 bool boolean(const json& obj, const std::string& key, bool fallback, const Where& w) {
   if (!obj.contains(key)) return fallback;
   const json& v = obj.at(key);
-  if (!v.is_boolean()) (w / key).fail("expected true or false, got " + v.dump());
+  if (!v.is_boolean()) (w / key).fail("expected true or false, got " + jsonForMessage(v));
   return v.get<bool>();
 }
 
 std::string readStr(const json& obj, const std::string& key, const std::string& fallback, const Where& w) {
   if (!obj.contains(key)) return fallback;
   const json& v = obj.at(key);
-  if (!v.is_string()) (w / key).fail("expected a string, got " + v.dump());
+  if (!v.is_string()) (w / key).fail("expected a string, got " + jsonForMessage(v));
   return v.get<std::string>();
 }
 
-std::vector<double> numbers(const json& v, const Where& w, const std::vector<size_t>& sizes, const std::string& shape) {
+// A list of finite numbers of one of `sizes`, each of magnitude at most `max_abs`.
+std::vector<double> numbers(const json& v, const Where& w, const std::vector<size_t>& sizes, const std::string& shape,
+                            double max_abs = kMaxMagnitude) {
   bool ok = v.is_array() && std::find(sizes.begin(), sizes.end(), v.size()) != sizes.end();
   if (ok)
     for (const json& x : v) ok = ok && x.is_number() && std::isfinite(x.get<double>());
-  if (!ok) w.fail("expected " + shape + ", got " + v.dump());
+  if (!ok) w.fail("expected " + shape + ", got " + jsonForMessage(v));
   std::vector<double> out;
   for (const json& x : v) out.push_back(x.get<double>());
+  for (double x : out)
+    if (std::abs(x) > max_abs) w.fail("expected " + shape + " of magnitude at most " + fmt(max_abs) + ", got " + jsonForMessage(v));
   return out;
 }
 
-Vec3 vec3(const json& obj, const std::string& key, const Where& w) {
+Vec3 vec3(const json& obj, const std::string& key, const Where& w, double max_abs = kMaxMagnitude) {
   if (!obj.contains(key)) return Vec3::Zero();
-  const std::vector<double> v = numbers(obj.at(key), w / key, {3}, "three numbers [x, y, z]");
+  const std::vector<double> v = numbers(obj.at(key), w / key, {3}, "three numbers [x, y, z]", max_abs);
   return Vec3(v[0], v[1], v[2]);
 }
 
-JointValues jointValues(const json& v, const Where& w, Bound lo = kNoLow) {
-  if (!v.is_object()) w.fail("expected an object {joint name: value}, got " + v.dump());
+JointValues jointValues(const json& v, const Where& w, Bound lo = kNoLow, Bound hi = kNoHigh) {
+  if (!v.is_object()) w.fail("expected an object {joint name: value}, got " + jsonForMessage(v));
   JointValues out;
-  for (auto it = v.begin(); it != v.end(); ++it) out[it.key()] = checkNumber(it.value(), w / it.key(), lo);
+  for (auto it = v.begin(); it != v.end(); ++it) out[it.key()] = checkNumber(it.value(), w / it.key(), lo, hi);
   return out;
 }
+
+// Joint gains (N m/rad, N m s/rad or N/m, N s/m): a 100 kg robot uses 1e3 to 1e5.
+constexpr double kMaxGain = 1e9;
 
 // A number for every joint or {joint: value}.
 GainSpec gainSpec(const json& obj, const std::string& key, const Where& w) {
@@ -157,11 +175,11 @@ GainSpec gainSpec(const json& obj, const std::string& key, const Where& w) {
   if (!obj.contains(key)) return out;
   const json& v = obj.at(key);
   if (v.is_number()) {
-    out.all = checkNumber(v, w / key, atLeast(0));
+    out.all = checkNumber(v, w / key, atLeast(0), atMost(kMaxGain));
   } else if (v.is_object()) {
-    out.joints = jointValues(v, w / key, atLeast(0));
+    out.joints = jointValues(v, w / key, atLeast(0), atMost(kMaxGain));
   } else {
-    (w / key).fail("expected a number (every actuated joint) or an object {joint name: value}, got " + v.dump());
+    (w / key).fail("expected a number (every actuated joint) or an object {joint name: value}, got " + jsonForMessage(v));
   }
   return out;
 }
@@ -183,21 +201,40 @@ std::string absolute(const std::string& path) {
 // " (the folder F does not exist)" for the outermost missing folder above a missing file, which
 // says at once when a whole tree is absent (e.g. ../shared with the robots); "" if its folder exists.
 std::string missingFolderNote(const fs::path& file) {
-  std::error_code ec;
   fs::path missing;
-  for (fs::path dir = file.parent_path(); !dir.empty() && dir != dir.parent_path() && !fs::exists(dir, ec);
+  for (fs::path dir = file.parent_path(); !dir.empty() && dir != dir.parent_path() && !pathExists(dir.string());
        dir = dir.parent_path())
     missing = dir;
-  return missing.empty() ? "" : " (the folder " + missing.string() + " does not exist)";
+  return missing.empty() ? "" : " (the folder " + displayPath(missing.string()) + " does not exist)";
 }
 
-// A path value: a string, resolved against the scene's folder; `must_exist` checks the file.
+// What a path value must name when the scene is read.
+enum class PathKind {
+  Output,       // nothing yet (the output file)
+  Existing,     // a file or a folder (a contact model may be a folder of text files)
+  RegularFile,  // a regular file (URDF, terrain and keyframe files)
+};
+
+// A path value: a string, resolved against the scene's folder and checked as `kind` says.
 std::string pathValue(const json& obj, const std::string& key, const Where& w, const std::string& base_dir,
-                      bool must_exist) {
+                      PathKind kind, const std::string& what = "file") {
   const json& v = obj.at(key);
-  if (!v.is_string() || v.get<std::string>().empty()) (w / key).fail("expected a file path, got " + v.dump());
-  const std::string resolved = absolute(ConfigContext{"", base_dir}.resolve(v.get<std::string>()));
-  if (must_exist && !fs::exists(resolved)) (w / key).fail("file not found: " + resolved + missingFolderNote(resolved));
+  if (!v.is_string() || v.get<std::string>().empty()) (w / key).fail("expected a file path, got " + jsonForMessage(v));
+  const std::string& given = v.get<std::string>();
+  if (given.size() > limits::kMaxPathLength || given.find('\0') != std::string::npos)
+    (w / key).fail("not a usable path: " + std::to_string(given.size()) + " characters" +
+                   (given.find('\0') != std::string::npos ? " with a NUL character" : "") + " (at most " +
+                   std::to_string(limits::kMaxPathLength) + ")");
+  const std::string resolved = absolute(ConfigContext{"", base_dir}.resolve(given));
+  if (kind == PathKind::Output) return resolved;
+  if (!pathExists(resolved)) (w / key).fail("file not found: " + displayPath(resolved) + missingFolderNote(resolved));
+  if (kind == PathKind::RegularFile) {
+    try {
+      requireRegularFile(resolved, what);
+    } catch (const InputError& e) {
+      (w / key).fail(e.what());
+    }
+  }
   return resolved;
 }
 
@@ -234,10 +271,23 @@ const std::vector<std::string>& gaitKeys(SceneGaitType type) {
 
 // ---- sections -----------------------------------------------------------------------------------
 
+// Bounds of the robot's keys: joint values and angles (rad or m), positions (m), speeds (m/s,
+// rad/s), rotor inertias (kg m²), contact sphere offsets and radii (m). Each is far beyond a real
+// robot and keeps the arithmetic of a step finite.
+constexpr double kMaxJointValue = 1e3;
+constexpr double kMaxPosition = 1e6;
+constexpr double kMaxSpeed = 1e3;
+constexpr double kMaxArmature = 1e6;
+constexpr double kMaxContactOffset = 1e3;
+constexpr double kMaxContactRadius = 10.0;
+// Gait sizes (m) and periods (s).
+constexpr double kMaxGaitLength = 100.0;
+constexpr double kMaxGaitTime = 1e4;
+
 void parseRobot(const json& robot, const Where& w, SceneConfig& c, json& out) {
   checkKeys(robot, w, kRobotKeys);
   if (!robot.contains("urdf")) w.fail("missing required key 'urdf' (the robot's URDF file, relative to the scene file)");
-  c.urdf = pathValue(robot, "urdf", w, c.base_dir, true);
+  c.urdf = pathValue(robot, "urdf", w, c.base_dir, PathKind::RegularFile, "URDF file");
   out["urdf"] = c.urdf;
 
   const std::string base = readStr(robot, "base", "floating", w);
@@ -247,14 +297,15 @@ void parseRobot(const json& robot, const Where& w, SceneConfig& c, json& out) {
   else (w / "base").fail("unknown base type '" + base + "'" + suggestion(base, {"floating", "planar", "fixed"}) + "; valid: floating, planar, fixed");
   out["base"] = base;
 
-  if (robot.contains("locked_joints")) c.locked_joints = jointValues(robot.at("locked_joints"), w / "locked_joints");
+  if (robot.contains("locked_joints"))
+    c.locked_joints = jointValues(robot.at("locked_joints"), w / "locked_joints", atLeast(-kMaxJointValue), atMost(kMaxJointValue));
   out["locked_joints"] = toJson(c.locked_joints);
 
   if (robot.contains("armature")) {
     const json& a = robot.at("armature");
-    if (a.is_number()) c.default_armature = checkNumber(a, w / "armature", atLeast(0));
-    else if (a.is_object()) c.armature = jointValues(a, w / "armature", atLeast(0));
-    else (w / "armature").fail("expected a number (every actuated joint) or an object {joint name: value}, got " + a.dump());
+    if (a.is_number()) c.default_armature = checkNumber(a, w / "armature", atLeast(0), atMost(kMaxArmature));
+    else if (a.is_object()) c.armature = jointValues(a, w / "armature", atLeast(0), atMost(kMaxArmature));
+    else (w / "armature").fail("expected a number (every actuated joint) or an object {joint name: value}, got " + jsonForMessage(a));
     out["armature"] = a;
   } else {
     out["armature"] = 0.0;
@@ -265,22 +316,22 @@ void parseRobot(const json& robot, const Where& w, SceneConfig& c, json& out) {
   checkKeys(initial, wi, kInitialKeys);
   json& oi = out["initial"] = json::object();
   if (initial.contains("joints")) {
-    c.initial_joints = jointValues(initial.at("joints"), wi / "joints");
+    c.initial_joints = jointValues(initial.at("joints"), wi / "joints", atLeast(-kMaxJointValue), atMost(kMaxJointValue));
     oi["joints"] = toJson(c.initial_joints);
   }
-  c.initial_height = optionalNumber(initial, "height", wi);
+  c.initial_height = optionalNumber(initial, "height", wi, atLeast(-kMaxPosition), atMost(kMaxPosition));
   if (initial.contains("base_position")) {
     const std::vector<double> p =
-        numbers(initial.at("base_position"), wi / "base_position", {2, 3}, "[x, y] or [x, y, z]");
+        numbers(initial.at("base_position"), wi / "base_position", {2, 3}, "[x, y] or [x, y, z]", kMaxPosition);
     c.initial_x = p[0];
     c.initial_y = p[1];
     if (p.size() == 3) c.initial_height = p[2];
   }
-  c.initial_rpy = vec3(initial, "base_rpy", wi);
+  c.initial_rpy = vec3(initial, "base_rpy", wi, kMaxJointValue);
   const json velocity = initial.contains("velocity") ? initial.at("velocity") : json::object();
   checkKeys(velocity, wi / "velocity", kVelocityKeys);
-  c.initial_linear_velocity = vec3(velocity, "base_linear", wi / "velocity");
-  c.initial_angular_velocity = vec3(velocity, "base_angular", wi / "velocity");
+  c.initial_linear_velocity = vec3(velocity, "base_linear", wi / "velocity", kMaxSpeed);
+  c.initial_angular_velocity = vec3(velocity, "base_angular", wi / "velocity", kMaxSpeed);
 
   if (c.base == BaseType::Fixed) {
     for (const char* key : {"height", "base_position", "base_rpy", "velocity"})
@@ -312,9 +363,12 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
     const Where wp = w / "points";
     if (points.is_string()) {
       if (points.get<std::string>() != "auto")
-        wp.fail("expected \"auto\" or a list of {\"link\", \"offset\", \"radius\"}, got " + points.dump());
+        wp.fail("expected \"auto\" or a list of {\"link\", \"offset\", \"radius\"}, got " + jsonForMessage(points));
     } else if (points.is_array()) {
       c.auto_contacts = false;
+      if (points.size() > static_cast<size_t>(limits::kMaxContactPoints))
+        wp.fail(std::to_string(points.size()) + " contact points, more than the " + std::to_string(limits::kMaxContactPoints) +
+                " a scene may have");
       std::map<std::string, int> uses;
       for (size_t i = 0; i < points.size(); ++i) {
         const Where we = wp / std::to_string(i);
@@ -323,8 +377,8 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
         if (!p.contains("link")) we.fail("missing required key 'link' (the URDF link carrying the contact sphere)");
         ContactPointSpec spec;
         spec.link = readStr(p, "link", "", we);
-        spec.offset = vec3(p, "offset", we);
-        spec.radius = number(p, "radius", 0.0, we, atLeast(0));
+        spec.offset = vec3(p, "offset", we, kMaxContactOffset);
+        spec.radius = number(p, "radius", 0.0, we, atLeast(0), atMost(kMaxContactRadius));
         if (p.contains("leg_axis")) {
           const Vec3 a = vec3(p, "leg_axis", we);
           if (!(a.norm() > 1e-9)) (we / "leg_axis").fail("must be a non-zero vector [x, y, z] in the link frame (from the foot up the leg)");
@@ -335,7 +389,7 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
         c.contact_points.push_back(spec);
       }
     } else {
-      wp.fail("expected \"auto\" or a list of {\"link\", \"offset\", \"radius\"}, got " + points.dump());
+      wp.fail("expected \"auto\" or a list of {\"link\", \"offset\", \"radius\"}, got " + jsonForMessage(points));
     }
   }
   if (c.auto_contacts) {
@@ -354,12 +408,12 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
   const Where wm = w / "model";
   checkObject(c.contact_model, wm);
   if (!c.contact_model.contains("type")) wm.fail("missing required key 'type' (e.g. \"coulomb\", \"rbf\", \"mlp\")");
-  if (!c.contact_model.at("type").is_string()) (wm / "type").fail("expected a string, got " + c.contact_model.at("type").dump());
+  if (!c.contact_model.at("type").is_string()) (wm / "type").fail("expected a string, got " + jsonForMessage(c.contact_model.at("type")));
   // "file" (a model file or folder) must exist; other "*_file" keys are resolved and left to the model.
   for (auto it = c.contact_model.begin(); it != c.contact_model.end(); ++it) {
     const std::string& key = it.key();
     const bool file_key = key == "file" || (key.size() > 5 && key.compare(key.size() - 5, 5, "_file") == 0);
-    if (file_key) it.value() = pathValue(c.contact_model, key, wm, c.base_dir, key == "file");
+    if (file_key) it.value() = pathValue(c.contact_model, key, wm, c.base_dir, key == "file" ? PathKind::Existing : PathKind::Output);
   }
   out["model"] = c.contact_model;
 }
@@ -368,7 +422,8 @@ void parseTerrain(const json& terrain, const Where& w, SceneConfig& c) {
   c.terrain = terrain.is_null() ? json{{"type", "plane"}} : terrain;
   checkObject(c.terrain, w);
   if (!c.terrain.contains("type")) c.terrain["type"] = "plane";
-  if (c.terrain.contains("file")) c.terrain["file"] = pathValue(c.terrain, "file", w, c.base_dir, true);
+  if (c.terrain.contains("file"))
+    c.terrain["file"] = pathValue(c.terrain, "file", w, c.base_dir, PathKind::RegularFile, "terrain file");
   makeTerrain(c.terrain, ConfigContext{w.str(), c.base_dir});  // validates every key
 }
 
@@ -383,22 +438,29 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   const std::optional<KineticEnergyMeasure> k = parseKineticEnergy(ke);
   if (!k) (w / "kinetic_energy").fail("unknown value '" + ke + "'; valid: full-body, contact-points, full-body-pd");
   o.kinetic_energy = *k;
-  c.dt = number(in, "dt", c.dt, w, above(0), atMost(1));
+  // dt from 1 µs (a step that small no longer advances the clock of a long run) to 1 s; a step
+  // splits at most kMaxSplits times, so one step is at most 2^20 sub-steps of work.
+  constexpr double kMinDt = 1e-6;
+  constexpr int kMaxSplits = 20;
+  c.dt = number(in, "dt", c.dt, w, atLeast(kMinDt), atMost(1));
   o.adaptive = boolean(in, "adaptive", o.adaptive, w);
-  o.min_substep = number(in, "min_substep", o.min_substep, w, above(0), atMost(c.dt));
-  o.epsilon = number(in, "epsilon", o.epsilon, w, above(0));
-  o.tol_w = number(in, "tol_w", o.tol_w, w, above(0));
-  o.eta = number(in, "eta", o.eta, w, above(1));
-  o.eta_reject = number(in, "eta_reject", o.eta_reject, w, above(1));
-  o.eta_limited = number(in, "eta_limited", o.eta_limited, w, above(1));
-  o.beta_min = number(in, "beta_min", o.beta_min, w, above(0));
-  o.beta_max = number(in, "beta_max", o.beta_max, w, above(o.beta_min));
+  o.min_substep = number(in, "min_substep", std::min(o.min_substep, c.dt), w, above(0), atMost(c.dt));
+  if (o.min_substep < c.dt / (1 << kMaxSplits))
+    (w / "min_substep").fail("must be at least dt / 2^" + std::to_string(kMaxSplits) + " = " + fmt(c.dt / (1 << kMaxSplits)) +
+                             " s (a step splits at most " + std::to_string(kMaxSplits) + " times), got " + fmt(o.min_substep));
+  o.epsilon = number(in, "epsilon", o.epsilon, w, above(0), atMost(1));
+  o.tol_w = number(in, "tol_w", o.tol_w, w, above(0), atMost(1));
+  o.eta = number(in, "eta", o.eta, w, above(1), atMost(1e3));
+  o.eta_reject = number(in, "eta_reject", o.eta_reject, w, above(1), atMost(1e3));
+  o.eta_limited = number(in, "eta_limited", o.eta_limited, w, above(1), atMost(1e3));
+  o.beta_min = number(in, "beta_min", o.beta_min, w, above(0), atMost(1e6));
+  o.beta_max = number(in, "beta_max", o.beta_max, w, above(o.beta_min), atMost(1e12));
   o.beta_initial = number(in, "beta_initial", std::clamp(o.beta_initial, o.beta_min, o.beta_max), w,
                           atLeast(o.beta_min), atMost(o.beta_max));
   o.adapt_start_penalty = boolean(in, "adapt_start_penalty", o.adapt_start_penalty, w);
-  o.max_outer_iterations = integer(in, "max_outer_iterations", o.max_outer_iterations, w, 1);
-  o.projection_tolerance = number(in, "projection_tolerance", o.projection_tolerance, w, above(0));
-  o.projection_max_iterations = integer(in, "projection_max_iterations", o.projection_max_iterations, w, 1);
+  o.max_outer_iterations = integer(in, "max_outer_iterations", o.max_outer_iterations, w, 1, 100000);
+  o.projection_tolerance = number(in, "projection_tolerance", o.projection_tolerance, w, above(0), atMost(1));
+  o.projection_max_iterations = integer(in, "projection_max_iterations", o.projection_max_iterations, w, 1, 10000);
   o.projection_backtracking = integer(in, "projection_backtracking", o.projection_backtracking, w, 0, 60);
   o.warm_start_weights = boolean(in, "warm_start_weights", o.warm_start_weights, w);
   o.predict_first_iterate = boolean(in, "predict_first_iterate", o.predict_first_iterate, w);
@@ -452,15 +514,15 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
   out = json::object();
   out["type"] = type;
   GaitParameters& g = c.gait;
-  g.stand.height = optionalNumber(in, "height", w, above(0));
+  g.stand.height = optionalNumber(in, "height", w, above(0), atMost(kMaxGaitLength));
   if (g.stand.height) out["height"] = *g.stand.height;
   switch (c.gait_type) {
     case SceneGaitType::Stand: g.type = GaitType::Stand; break;
     case SceneGaitType::Trot:
       g.type = GaitType::Trot;
-      g.trot.stride_length = optionalNumber(in, "stride_length", w, atLeast(0));
-      g.trot.step_height = optionalNumber(in, "step_height", w, atLeast(0));
-      g.trot.period = number(in, "period", g.trot.period, w, above(0));
+      g.trot.stride_length = optionalNumber(in, "stride_length", w, atLeast(0), atMost(kMaxGaitLength));
+      g.trot.step_height = optionalNumber(in, "step_height", w, atLeast(0), atMost(kMaxGaitLength));
+      g.trot.period = number(in, "period", g.trot.period, w, above(0), atMost(kMaxGaitTime));
       g.trot.duty_factor = number(in, "duty_factor", g.trot.duty_factor, w, above(0), below(1));
       {
         const std::string profile = readStr(in, "swing_profile", swingProfileName(g.trot.swing_profile), w);
@@ -471,7 +533,7 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
         }
       }
       g.trot.ground_speed_share = number(in, "ground_speed_share", g.trot.ground_speed_share, w, atLeast(0), below(1));
-      g.trot.start_ramp = number(in, "start_ramp", g.trot.start_ramp, w, atLeast(0));
+      g.trot.start_ramp = number(in, "start_ramp", g.trot.start_ramp, w, atLeast(0), atMost(kMaxGaitTime));
       if (g.trot.stride_length) out["stride_length"] = *g.trot.stride_length;
       if (g.trot.step_height) out["step_height"] = *g.trot.step_height;
       out["period"] = g.trot.period;
@@ -482,9 +544,9 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
       break;
     case SceneGaitType::Jump:
       g.type = GaitType::Jump;
-      g.jump.crouch_depth = optionalNumber(in, "crouch_depth", w, atLeast(0));
-      g.jump.push_off_height = optionalNumber(in, "push_off_height", w, above(0));
-      g.jump.period = number(in, "period", g.jump.period, w, above(0));
+      g.jump.crouch_depth = optionalNumber(in, "crouch_depth", w, atLeast(0), atMost(kMaxGaitLength));
+      g.jump.push_off_height = optionalNumber(in, "push_off_height", w, above(0), atMost(kMaxGaitLength));
+      g.jump.period = number(in, "period", g.jump.period, w, above(0), atMost(kMaxGaitTime));
       g.jump.pause = number(in, "pause", g.jump.pause, w, atLeast(0), below(g.jump.period));
       if (g.jump.crouch_depth) out["crouch_depth"] = *g.jump.crouch_depth;
       if (g.jump.push_off_height) out["push_off_height"] = *g.jump.push_off_height;
@@ -494,9 +556,9 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
     case SceneGaitType::Keyframes:
       g.type = GaitType::Stand;  // the standing pose fills the coordinates the file does not list
       if (!in.contains("file")) w.fail("missing required key 'file' for gait type keyframes (a CSV or JSON keyframe file)");
-      c.keyframe_file = pathValue(in, "file", w, c.base_dir, true);
+      c.keyframe_file = pathValue(in, "file", w, c.base_dir, PathKind::RegularFile, "keyframe file");
       c.keyframes_cyclic = boolean(in, "cyclic", false, w);
-      c.keyframe_period = optionalNumber(in, "period", w, above(0));
+      c.keyframe_period = optionalNumber(in, "period", w, above(0), atMost(kMaxGaitTime));
       if (c.keyframe_period && !c.keyframes_cyclic) (w / "period").fail("only used with \"cyclic\": true");
       out["file"] = c.keyframe_file;
       out["cyclic"] = c.keyframes_cyclic;
@@ -509,7 +571,7 @@ void parseController(const json& in, const Where& w, SceneConfig& c, json& out) 
   checkKeys(in, w, kControllerKeys);
   c.kp = gainSpec(in, "kp", w);
   c.kd = gainSpec(in, "kd", w);
-  if (in.contains("tau_ff")) c.tau_ff = jointValues(in.at("tau_ff"), w / "tau_ff");
+  if (in.contains("tau_ff")) c.tau_ff = jointValues(in.at("tau_ff"), w / "tau_ff", atLeast(-kMaxGain), atMost(kMaxGain));
   out = json::object();
   if (in.contains("kp")) out["kp"] = in.at("kp");
   if (in.contains("kd")) out["kd"] = in.at("kd");
@@ -594,6 +656,9 @@ std::string standingFailure(const SceneConfig& c, const Standing& s) {
   return what;
 }
 
+// Keyframes of one file: a motion sampled at 1 kHz for 15 minutes has 10^6.
+constexpr size_t kMaxKeyframes = 1000000;
+
 struct Keyframes {
   std::vector<double> times;
   std::vector<std::string> joints;
@@ -601,7 +666,7 @@ struct Keyframes {
 };
 
 [[noreturn]] void keyframeFail(const SceneConfig& c, const std::string& what) {
-  (Where{fileOf(c), "controller.gait.file"}).fail(c.keyframe_file + ": " + what);
+  (Where{fileOf(c), "controller.gait.file"}).fail(displayPath(c.keyframe_file) + ": " + what);
 }
 
 std::vector<std::string> splitCsv(const std::string& line) {
@@ -618,19 +683,20 @@ std::vector<std::string> splitCsv(const std::string& line) {
 }
 
 Keyframes readKeyframes(const SceneConfig& c) {
-  std::ifstream in(c.keyframe_file, std::ios::binary);
-  if (!in) keyframeFail(c, "cannot open the file");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
+  std::string text;
+  try {
+    text = readInputFile(c.keyframe_file, "keyframe file");
+  } catch (const InputError& e) {
+    (Where{fileOf(c), "controller.gait.file"}).fail(e.what());
+  }
   Keyframes k;
   const size_t first = text.find_first_not_of(" \t\r\n");
   if (first != std::string::npos && text[first] == '{') {
     json j;
     try {
-      j = json::parse(text);
-    } catch (const json::parse_error& e) {
-      keyframeFail(c, std::string("invalid JSON: ") + e.what());
+      j = parseJson(text, displayPath(c.keyframe_file));
+    } catch (const InputError& e) {
+      (Where{fileOf(c), "controller.gait.file"}).fail(e.what());
     }
     for (auto it = j.begin(); it != j.end(); ++it)
       if (it.key() != "times" && it.key() != "joints")
@@ -639,8 +705,11 @@ Keyframes readKeyframes(const SceneConfig& c) {
       keyframeFail(c, "expected {\"times\": [...], \"joints\": {name: [...]}}");
     const json& times = j.at("times");
     if (!times.is_array()) keyframeFail(c, "times: expected a list of numbers");
+    if (times.size() > kMaxKeyframes) keyframeFail(c, "times: more than " + std::to_string(kMaxKeyframes) + " keyframes");
+    if (j.at("joints").is_object() && j.at("joints").size() > static_cast<size_t>(limits::kMaxJoints))
+      keyframeFail(c, "joints: more than " + std::to_string(limits::kMaxJoints) + " joints");
     for (const json& t : times) {
-      if (!t.is_number() || !std::isfinite(t.get<double>())) keyframeFail(c, "times: expected a list of numbers, got " + t.dump());
+      if (!t.is_number() || !std::isfinite(t.get<double>())) keyframeFail(c, "times: expected a list of numbers, got " + jsonForMessage(t));
       k.times.push_back(t.get<double>());
     }
     if (!j.at("joints").is_object()) keyframeFail(c, "joints: expected an object {name: [values]}");
@@ -649,7 +718,7 @@ Keyframes readKeyframes(const SceneConfig& c) {
       if (!it.value().is_array() || it.value().size() != k.times.size())
         keyframeFail(c, "joints." + it.key() + ": expected " + std::to_string(k.times.size()) + " numbers (one per time)");
       for (const json& x : it.value()) {
-        if (!x.is_number() || !std::isfinite(x.get<double>())) keyframeFail(c, "joints." + it.key() + ": expected numbers, got " + x.dump());
+        if (!x.is_number() || !std::isfinite(x.get<double>())) keyframeFail(c, "joints." + it.key() + ": expected numbers, got " + jsonForMessage(x));
         column.push_back(x.get<double>());
       }
       k.joints.push_back(it.key());
@@ -668,6 +737,8 @@ Keyframes readKeyframes(const SceneConfig& c) {
         header = true;
         if (cells.empty() || cells[0] != "time")
           keyframeFail(c, "line " + std::to_string(line_number) + ": the header must be time,<joint names...>");
+        if (cells.size() > static_cast<size_t>(limits::kMaxJoints) + 1)
+          keyframeFail(c, "line " + std::to_string(line_number) + ": more than " + std::to_string(limits::kMaxJoints) + " joints");
         k.joints.assign(cells.begin() + 1, cells.end());
         for (const std::string& name : k.joints)
           if (name.empty()) keyframeFail(c, "line " + std::to_string(line_number) + ": empty joint name in the header");
@@ -677,6 +748,8 @@ Keyframes readKeyframes(const SceneConfig& c) {
       if (cells.size() != k.joints.size() + 1)
         keyframeFail(c, "line " + std::to_string(line_number) + ": expected " + std::to_string(k.joints.size() + 1) +
                             " values, got " + std::to_string(cells.size()));
+      if (k.times.size() >= kMaxKeyframes)
+        keyframeFail(c, "line " + std::to_string(line_number) + ": more than " + std::to_string(kMaxKeyframes) + " keyframes");
       for (size_t i = 0; i < cells.size(); ++i) {
         double v = 0;
         try {
@@ -684,8 +757,8 @@ Keyframes readKeyframes(const SceneConfig& c) {
           v = std::stod(cells[i], &used);
           if (used != cells[i].size() || !std::isfinite(v)) throw std::invalid_argument(cells[i]);
         } catch (const std::exception&) {
-          keyframeFail(c, "line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) + ": '" + cells[i] +
-                              "' is not a number");
+          keyframeFail(c, "line " + std::to_string(line_number) + ", column " + std::to_string(i + 1) + ": '" +
+                              cells[i].substr(0, 40) + (cells[i].size() > 40 ? "..." : "") + "' is not a number");
         }
         if (i == 0) k.times.push_back(v);
         else k.columns[i - 1].push_back(v);
@@ -698,9 +771,9 @@ Keyframes readKeyframes(const SceneConfig& c) {
     if (!(k.times[i] > k.times[i - 1]))
       keyframeFail(c, "times must increase strictly (keyframe " + std::to_string(i + 1) + ": " + fmt(k.times[i]) +
                           " after " + fmt(k.times[i - 1]) + ")");
-  for (size_t a = 0; a < k.joints.size(); ++a)
-    for (size_t b = a + 1; b < k.joints.size(); ++b)
-      if (k.joints[a] == k.joints[b]) keyframeFail(c, "joint '" + k.joints[a] + "' is listed twice");
+  std::set<std::string> listed;
+  for (const std::string& name : k.joints)
+    if (!listed.insert(name).second) keyframeFail(c, "joint '" + name + "' is listed twice");
   return k;
 }
 
@@ -783,37 +856,16 @@ const char* sceneGaitTypeName(SceneGaitType type) { return kGaitTypes[static_cas
 // ---- loading and overrides ------------------------------------------------------------------------
 
 json loadSceneJson(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the scene file" + (fs::exists(path) ? "" : " (no such file)"));
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::string text = buffer.str();
-  json scene;
-  try {
-    scene = json::parse(text);
-  } catch (const json::parse_error& e) {
-    // Line and column of the byte the parser stopped at (e.byte is 1-based).
-    const size_t stop = std::min<size_t>(e.byte == 0 ? 0 : e.byte - 1, text.size());
-    size_t line = 1, column = 1;
-    for (size_t i = 0; i < stop; ++i) {
-      if (text[i] == '\n') {
-        ++line;
-        column = 1;
-      } else {
-        ++column;
-      }
-    }
-    std::string detail = e.what();
-    const size_t colon = detail.find(": ");
-    if (detail.rfind("[json.exception", 0) == 0 && colon != std::string::npos) detail = detail.substr(colon + 2);
-    throw InputError(path + ":" + std::to_string(line) + ":" + std::to_string(column) + ": invalid JSON: " + detail);
-  }
-  if (!scene.is_object()) throw InputError(path + ": expected a JSON object {\"robot\": ..., ...}, got " + std::string(scene.type_name()));
+  const json scene = parseJson(readInputFile(path, "scene file"), displayPath(path));
+  if (!scene.is_object())
+    throw InputError(displayPath(path) + ": expected a JSON object {\"robot\": ..., ...}, got " + std::string(scene.type_name()));
   return scene;
 }
 
 void applyOverride(json& scene, const std::string& assignment, const std::string& file) {
-  const std::string prefix = (file.empty() ? "" : file + ": ") + "--set " + assignment + ": ";
+  // The assignment as messages show it: an absurdly long one is shortened like a path.
+  const std::string prefix = (file.empty() ? "" : file + ": ") + "--set " + displayPath(assignment) + ": ";
+  if (!isValidUtf8(assignment)) throw InputError(prefix + "not valid UTF-8 text");
   const size_t eq = assignment.find('=');
   if (eq == std::string::npos) throw InputError(prefix + "expected key.path=value (e.g. integrator.dt=0.01)");
   const std::string key = assignment.substr(0, eq);
@@ -830,13 +882,12 @@ void applyOverride(json& scene, const std::string& assignment, const std::string
   }
   for (const std::string& s : segments)
     if (s.empty()) throw InputError(prefix + "empty key" + (key.empty() ? "" : " segment in '" + key + "'") + "; expected key.path=value");
+  if (segments.size() > static_cast<size_t>(limits::kMaxJsonDepth))
+    throw InputError(prefix + "the key has " + std::to_string(segments.size()) + " levels, more than the " +
+                     std::to_string(limits::kMaxJsonDepth) + " a scene may nest");
 
-  json value;
-  try {
-    value = json::parse(text);
-  } catch (const json::parse_error&) {
-    value = text;  // a plain string: --set integrator.method=ne-zopgm
-  }
+  // A plain string unless it is JSON: --set integrator.method=ne-zopgm.
+  const json value = isJson(text) ? parseJson(text, prefix.substr(0, prefix.size() - 2)) : json(text);
 
   if (!scene.is_object()) scene = json::object();
   json* node = &scene;
@@ -867,7 +918,7 @@ void applyOverride(json& scene, const std::string& assignment, const std::string
       return;
     }
     if (!next->is_object() && !next->is_array())
-      throw InputError(prefix + "'" + walked + "' is " + next->dump() + ", not an object; cannot set a key inside it");
+      throw InputError(prefix + "'" + walked + "' is " + jsonForMessage(*next) + ", not an object; cannot set a key inside it");
     node = next;
   }
 }
@@ -891,13 +942,24 @@ SceneConfig parseScene(const json& scene, const std::string& path) {
                   out["integrator"]);
   parseController(scene.contains("controller") ? scene.at("controller") : json::object(), top / "controller", c,
                   out["controller"]);
-  c.duration = number(scene, "duration", c.duration, top, above(0));
+  // Not capped at kMaxMagnitude: what bounds a duration is its number of steps, said below.
+  if (scene.contains("duration")) {
+    const json& v = scene.at("duration");
+    const Where wd = top / "duration";
+    if (!v.is_number()) wd.fail("expected a number, got " + jsonForMessage(v));
+    c.duration = v.get<double>();
+    if (!(c.duration > 0) || !std::isfinite(c.duration)) wd.fail("must be > 0, got " + jsonForMessage(v));
+  }
+  // The run's step count must be storable (limits::kMaxSteps): 1e308 s would overflow it.
+  if (!(c.duration / c.dt <= limits::kMaxSteps))
+    top.fail("duration " + fmt(c.duration) + " s at integrator.dt " + fmt(c.dt) + " s is " + fmt(c.duration / c.dt) +
+             " steps, more than the " + fmt(limits::kMaxSteps) + " a run can count and store; shorten duration or lengthen integrator.dt");
   out["duration"] = c.duration;
 
   const json output = scene.contains("output") ? scene.at("output") : json::object();
   const Where wo = top / "output";
   checkKeys(output, wo, kOutputKeys);
-  if (output.contains("file")) c.output_file = pathValue(output, "file", wo, c.base_dir, false);
+  if (output.contains("file")) c.output_file = pathValue(output, "file", wo, c.base_dir, PathKind::Output);
   else c.output_file = absolute(fs::path(path).stem().string() + ".h5");
   c.output_every = integer(output, "every", 1, wo, 1);
   out["output"] = {{"file", c.output_file}, {"every", c.output_every}};

@@ -258,6 +258,7 @@ void TrajectoryWriter::flushFile() {
 }
 
 void TrajectoryWriter::stage(Column& c, const void* row) {
+  if (c.row_bytes == 0) return;  // e.g. no contacts: row is then an empty vector's null data()
   std::memcpy(c.rows.data() + static_cast<size_t>(pending_) * c.row_bytes, row, c.row_bytes);
 }
 

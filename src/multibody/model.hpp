@@ -6,6 +6,7 @@
 // three (x, z, pitch). Bodies are stored depth first, so the subtree of body i is the index range
 // [i, subtree_end[i]) and a parent always precedes its children.
 #pragma once
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -63,6 +64,10 @@ struct Body {
   Mat3 inertia_com = Mat3::Zero();
   Mat4 second_moment = Mat4::Zero();  // [[∫ρxxᵀ, m c], [m cᵀ, m]] in the body frame
   double armature = 0.0;
+  // Position limits of the URDF joint (rad or m; revolute and prismatic joints with lower < upper,
+  // else unlimited): used by leg inverse kinematics, not by the dynamics.
+  double lower_limit = -std::numeric_limits<double>::infinity();
+  double upper_limit = std::numeric_limits<double>::infinity();
 
   // False for the massless virtual base bodies: their world inertia, momentum and inertia rate
   // are zero, which the dynamics algorithms skip.

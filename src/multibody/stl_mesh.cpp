@@ -4,11 +4,11 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -78,9 +78,7 @@ void parseAscii(const std::string& path, const std::string& bytes, StlMesh& mesh
 }  // namespace
 
 StlMesh readStl(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open STL file");
-  const std::string bytes((std::istreambuf_iterator<char>(file)), std::istreambuf_iterator<char>());
+  const std::string bytes = readInputFile(path, "STL mesh file", limits::kMaxMeshFileBytes);
   StlMesh mesh;
   if (bytes.size() >= 84) {
     const uint32_t count = readU32LE(reinterpret_cast<const unsigned char*>(bytes.data()) + 80);

@@ -6,12 +6,15 @@
 #include <cmath>
 #include <console_bridge/console.h>
 #include <filesystem>
-#include <fstream>
+#include <cstring>
+#include <map>
 #include <set>
-#include <sstream>
 #include <urdf_parser/urdf_parser.h>
 
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
+#include "common/limits.hpp"
+#include "common/utf8.hpp"
 #include "multibody/crba.hpp"
 #include "multibody/data.hpp"
 
@@ -105,14 +108,81 @@ void requireFinite(double value, const std::string& file, const std::string& ele
     throw InputError(file + ": " + element + ": " + what + " is not a finite number");
 }
 
+// Bounds of a URDF's numbers, far beyond any robot (the heaviest link of RoboSimian is 13 kg, its
+// longest offset 0.4 m) and keeping the dynamics finite: masses (kg), inertias (kg m²), lengths (m).
+constexpr double kMaxMass = 1e6;
+constexpr double kMaxInertia = 1e6;
+constexpr double kMaxLength = 1e3;
+
+void requireWithin(double value, double bound, const std::string& file, const std::string& element, const std::string& what) {
+  requireFinite(value, file, element, what);
+  if (std::abs(value) > bound)
+    throw InputError(file + ": " + element + ": " + what + " " + std::to_string(value) + " is beyond " + std::to_string(bound));
+}
+
+void requirePose(const urdf::Pose& p, const std::string& file, const std::string& element) {
+  for (double v : {p.position.x, p.position.y, p.position.z})
+    requireWithin(v, kMaxLength, file, element + " <origin>", "xyz");
+  for (double v : {p.rotation.x, p.rotation.y, p.rotation.z, p.rotation.w})
+    requireFinite(v, file, element + " <origin>", "rpy");
+}
+
+// The deepest element nesting of an XML text, counted before TinyXML parses it: TinyXML recurses
+// once per level, so a file nested 10^5 deep would overflow the stack. Comments, CDATA, declarations
+// and quoted attribute values are skipped as TinyXML skips them. Returns the offset of the first
+// element deeper than limits::kMaxXmlDepth, or npos.
+size_t firstTooDeepElement(const std::string& xml) {
+  int depth = 0;
+  size_t i = 0;
+  const auto skipPast = [&](const char* end) {
+    const size_t at = xml.find(end, i);
+    i = at == std::string::npos ? xml.size() : at + std::strlen(end);
+  };
+  while ((i = xml.find('<', i)) != std::string::npos) {
+    const size_t start = i;
+    if (xml.compare(i, 4, "<!--") == 0) {
+      skipPast("-->");
+    } else if (xml.compare(i, 9, "<![CDATA[") == 0) {
+      skipPast("]]>");
+    } else if (xml.compare(i, 2, "<!") == 0 || xml.compare(i, 2, "<?") == 0) {
+      skipPast(">");
+    } else if (xml.compare(i, 2, "</") == 0) {
+      --depth;
+      skipPast(">");
+    } else {
+      char quote = 0, previous = 0;
+      for (++i; i < xml.size(); ++i) {
+        const char c = xml[i];
+        if (quote) {
+          if (c == quote) quote = 0;
+        } else if (c == '"' || c == '\'') {
+          quote = c;
+        } else if (c == '>') {
+          break;
+        }
+        if (!quote && c != ' ' && c != '\t' && c != '\n' && c != '\r') previous = c;
+      }
+      const bool self_closing = previous == '/';
+      if (!self_closing && ++depth > limits::kMaxXmlDepth) return start;
+      ++i;
+    }
+  }
+  return std::string::npos;
+}
+
+int lineOf(const std::string& text, size_t offset) {
+  return 1 + static_cast<int>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(std::min(offset, text.size())), '\n'));
+}
+
 class Builder {
  public:
   Builder(const std::string& path, const UrdfOptions& options) : path_(path), options_(options) {}
 
   Model build() {
-    const std::string xml = readFile();
+    const std::string xml = readInputFile(path_, "URDF file");
     const std::vector<std::string> joint_order = prescan(xml);
     urdf::ModelInterfaceSharedPtr urdf = parse(xml);
+    checkTree(*urdf);
 
     for (size_t i = 0; i < joint_order.size(); ++i) joint_rank_[joint_order[i]] = static_cast<int>(i);
     for (const auto& [name, value] : options_.locked_joints) {
@@ -136,30 +206,34 @@ class Builder {
 
     urdf::LinkConstSharedPtr root = urdf->getRoot();
     if (!root) throw InputError(path_ + ": the URDF has no root link");
-    visitLink(*urdf, root, -1, model_.root_body, Pose{});
+    visitTree(*urdf, root);
     finish();
     return std::move(model_);
   }
 
  private:
-  std::string readFile() {
-    if (fs::is_directory(path_)) throw InputError(path_ + ": cannot open the URDF file (it is a directory)");
-    std::ifstream in(path_);
-    if (!in) throw InputError(path_ + ": cannot open the URDF file (" + (fs::exists(path_) ? "permission denied" : "no such file") + ")");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    return ss.str();
-  }
-
   // TinyXML first, so a malformed file or an unknown joint type is reported with its line and
   // element instead of urdfdom's generic failure. Returns the joint names in file order.
   std::vector<std::string> prescan(const std::string& xml) {
+    if (xml.find('\0') != std::string::npos)
+      throw InputError(path_ + ":" + std::to_string(lineOf(xml, xml.find('\0'))) + ": a NUL byte: this is not an XML text file");
+    if (const size_t deep = firstTooDeepElement(xml); deep != std::string::npos)
+      throw InputError(path_ + ":" + std::to_string(lineOf(xml, deep)) + ": malformed URDF: elements nested more than " +
+                       std::to_string(limits::kMaxXmlDepth) + " levels deep");
     TiXmlDocument doc;
     doc.Parse(xml.c_str());
     if (doc.Error())
       throw InputError(path_ + ":" + std::to_string(doc.ErrorRow()) + ": malformed XML: " + doc.ErrorDesc());
     TiXmlElement* robot = doc.FirstChildElement("robot");
     if (!robot) throw InputError(path_ + ": no <robot> element: this is not a URDF file");
+    int links = 0, joints = 0;
+    for (TiXmlElement* l = robot->FirstChildElement("link"); l; l = l->NextSiblingElement("link")) ++links;
+    for (TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) ++joints;
+    if (links > limits::kMaxLinks || joints > limits::kMaxJoints)
+      throw InputError(path_ + ": " + std::to_string(links) + " links and " + std::to_string(joints) +
+                       " joints, more than the " + std::to_string(limits::kMaxLinks) + " links and " +
+                       std::to_string(limits::kMaxJoints) + " joints a robot may have");
+    checkJointGraph(*robot);
     static const std::set<std::string> known = {"revolute", "continuous", "prismatic", "fixed", "floating", "planar"};
     std::vector<std::string> order;
     for (TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
@@ -177,6 +251,54 @@ class Builder {
       order.push_back(name);
     }
     return order;
+  }
+
+  // The joints' graph from the XML, before urdfdom links the tree: urdfdom holds each link's
+  // children by shared pointer, so a cycle it is given is never freed, and one without a root
+  // makes it fail with no useful message. Each link has at most one parent joint, and following
+  // parents from any link reaches a link without one.
+  void checkJointGraph(const TiXmlElement& robot) {
+    std::map<std::string, std::pair<std::string, std::string>> parent_of;  // child link → (parent link, joint)
+    std::set<std::string> links;
+    for (const TiXmlElement* l = robot.FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
+      if (const char* name = l->Attribute("name")) links.insert(name);
+    for (const TiXmlElement* j = robot.FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+      const char* name = j->Attribute("name");
+      const TiXmlElement* parent = j->FirstChildElement("parent");
+      const TiXmlElement* child = j->FirstChildElement("child");
+      const char* parent_link = parent ? parent->Attribute("link") : nullptr;
+      const char* child_link = child ? child->Attribute("link") : nullptr;
+      const std::string element = jointElement(name ? name : "?") + " (line " + std::to_string(j->Row()) + ")";
+      if (!parent_link || !child_link) throw InputError(path_ + ": " + element + " needs <parent link=\"...\"/> and <child link=\"...\"/>");
+      if (!links.count(parent_link)) throw InputError(path_ + ": " + element + ": parent link '" + parent_link + "' does not exist");
+      if (!links.count(child_link)) throw InputError(path_ + ": " + element + ": child link '" + child_link + "' does not exist");
+      if (std::string(parent_link) == child_link)
+        throw InputError(path_ + ": " + element + ": its parent and child are the same link '" + child_link + "'");
+      const auto [it, first] = parent_of.emplace(child_link, std::make_pair(std::string(parent_link), std::string(name ? name : "?")));
+      if (!first)
+        throw InputError(path_ + ": link '" + child_link + "' is the child of two joints, " + jointElement(it->second.second) + " and " +
+                         jointElement(name ? name : "?") + ": a URDF is a tree (each link has at most one parent joint)");
+    }
+    // Links whose parents were followed to a root; every walk is bounded by the number of links.
+    std::set<std::string> rooted;
+    for (const std::string& start : links) {
+      std::vector<std::string> path;
+      std::string at = start;
+      while (!rooted.count(at)) {
+        auto up = parent_of.find(at);
+        if (up == parent_of.end()) break;  // a root
+        path.push_back(at);
+        if (path.size() > links.size()) {  // more steps than links: `at` is on a cycle
+          std::string cycle = "'" + at + "'";
+          for (std::string c = parent_of[at].first; c != at; c = parent_of[c].first) cycle += " <- '" + c + "'";
+          throw InputError(path_ + ": the joints form a cycle, " + cycle + " <- '" + at +
+                           "' (child <- parent): a URDF is one tree with a root link");
+        }
+        at = up->second.first;
+      }
+      rooted.insert(path.begin(), path.end());
+      rooted.insert(at);
+    }
   }
 
   urdf::ModelInterfaceSharedPtr parse(const std::string& xml) {
@@ -235,22 +357,120 @@ class Builder {
     model_.root_body = parent;
   }
 
-  void visitLink(const urdf::ModelInterface& urdf, const urdf::LinkConstSharedPtr& link, int parent_link, int body, const Pose& placement) {
-    checkInertial(*link);
+  // Before the tree is walked: names and numbers (the joint graph was checked in the prescan; the
+  // two-parent check stays here because urdfdom's own model is what the walk follows).
+  void checkTree(const urdf::ModelInterface& urdf) {
+    if (!isValidUtf8(urdf.getName())) throw InputError(path_ + ": the robot's name is not UTF-8 text");
+    for (const auto& [name, link] : urdf.links_)
+      if (name.empty() || !isValidUtf8(name)) throw InputError(path_ + ": a <link> name is empty or not UTF-8 text");
+    std::map<std::string, std::string> parent_joint_of;  // child link → joint
+    for (const auto& [name, joint] : urdf.joints_) {
+      const std::string element = jointElement(name);
+      if (name.empty() || !isValidUtf8(name)) throw InputError(path_ + ": a <joint> name is empty or not UTF-8 text");
+      if (joint->child_link_name == joint->parent_link_name)
+        throw InputError(path_ + ": " + element + ": its parent and child are the same link '" + joint->child_link_name + "'");
+      const auto [it, first] = parent_joint_of.emplace(joint->child_link_name, name);
+      if (!first)
+        throw InputError(path_ + ": link '" + joint->child_link_name + "' is the child of two joints, " + jointElement(it->second) +
+                         " and " + element + ": a URDF is a tree (each link has at most one parent joint)");
+      requirePose(joint->parent_to_joint_origin_transform, path_, element);
+      if (joint->limits) {
+        for (double v : {joint->limits->lower, joint->limits->upper, joint->limits->effort, joint->limits->velocity})
+          requireFinite(v, path_, element + " <limit>", "lower, upper, effort and velocity");
+      }
+    }
+  }
+
+  // Depth first from the root, in the joints' file order: bodies come out in preorder (a parent
+  // before its children, each subtree contiguous). An explicit stack, so a long chain cannot
+  // overflow the call stack.
+  struct Visit {
+    urdf::LinkConstSharedPtr link;
+    int parent_link = -1;
+    int body = -1;           // the body the link belongs to (created when the visit is taken)
+    Pose placement;          // link frame in that body's frame
+    urdf::JointConstSharedPtr joint;  // the movable joint that creates `body`, or null
+    Vec3 axis = Vec3::UnitZ();
+  };
+
+  void visitTree(const urdf::ModelInterface& urdf, const urdf::LinkConstSharedPtr& root) {
+    std::vector<Visit> stack;
+    stack.push_back({root, -1, model_.root_body, Pose{}, nullptr, Vec3::UnitZ()});
+    std::set<std::string> visited;
+    while (!stack.empty()) {
+      Visit v = std::move(stack.back());
+      stack.pop_back();
+      if (!visited.insert(v.link->name).second)
+        throw InputError(path_ + ": link '" + v.link->name + "' is reached twice from the root: the joints form a cycle");
+      if (v.joint) {  // a movable joint: its body now, so bodies are numbered in preorder
+        v.body = addBody(v.link->name, v.joint->name, v.body, v.joint->type == urdf::Joint::PRISMATIC ? JointKind::Prismatic : JointKind::Revolute,
+                         v.axis, v.placement);
+        Body& b = model_.bodies[v.body];
+        auto arm = options_.armature.find(v.joint->name);
+        b.armature = arm != options_.armature.end() ? arm->second : options_.default_armature;
+        if (v.joint->limits && (v.joint->type == urdf::Joint::REVOLUTE || v.joint->type == urdf::Joint::PRISMATIC) &&
+            v.joint->limits->lower < v.joint->limits->upper) {  // URDF's "no limit" is 0, 0
+          b.lower_limit = v.joint->limits->lower;
+          b.upper_limit = v.joint->limits->upper;
+        }
+        v.placement = Pose{};
+      }
+      const int index = addLink(*v.link, v.parent_link, v.body, v.placement);
+
+      std::vector<urdf::JointSharedPtr> joints = v.link->child_joints;
+      std::sort(joints.begin(), joints.end(), [&](const auto& a, const auto& b) { return joint_rank_[a->name] < joint_rank_[b->name]; });
+      for (auto it = joints.rbegin(); it != joints.rend(); ++it) {  // reversed: the first joint is taken first
+        const urdf::JointSharedPtr& joint = *it;
+        urdf::LinkConstSharedPtr child = urdf.getLink(joint->child_link_name);
+        if (!child) throw InputError(path_ + ": " + jointElement(joint->name) + ": child link '" + joint->child_link_name + "' does not exist");
+        const Pose origin = v.placement * toPose(joint->parent_to_joint_origin_transform);
+        Vec3 axis(joint->axis.x, joint->axis.y, joint->axis.z);
+        if (isMovable(joint->type)) {
+          requireFinite(axis.x() + axis.y() + axis.z(), path_, jointElement(joint->name) + " <axis>", "xyz");
+          if (axis.norm() < 1e-12) throw InputError(path_ + ": " + jointElement(joint->name) + " <axis>: the axis is zero");
+          axis.normalize();
+        }
+        auto locked = options_.locked_joints.find(joint->name);
+        if (!isMovable(joint->type) || locked != options_.locked_joints.end()) {
+          Pose motion;
+          if (locked != options_.locked_joints.end()) {
+            if (joint->type != urdf::Joint::PRISMATIC) motion.R = rotationAbout(axis, locked->second);
+            else motion.t = axis * locked->second;
+          }
+          stack.push_back({child, index, v.body, origin * motion, nullptr, axis});
+        } else {
+          stack.push_back({child, index, v.body, origin, joint, axis});
+        }
+      }
+    }
+    if (visited.size() != urdf.links_.size()) {
+      std::string unreachable;
+      for (const auto& [name, link] : urdf.links_)
+        if (!visited.count(name)) unreachable += (unreachable.empty() ? "'" : ", '") + name + "'";
+      throw InputError(path_ + ": links " + unreachable + " are not connected to the root link '" + root->name +
+                       "': a URDF is one tree");
+    }
+  }
+
+  // The link's own record (collision shapes, placement in its body) and inertia; returns its index.
+  int addLink(const urdf::Link& link, int parent_link, int body, const Pose& placement) {
+    checkInertial(link);
     Link out;
-    out.name = link->name;
+    out.name = link.name;
     out.body = body;
     out.rotation = placement.R;
     out.translation = placement.t;
     out.parent_link = parent_link;
-    if (link->inertial) out.mass = link->inertial->mass;
-    if (auto joint = link->parent_joint) {
+    if (link.inertial) out.mass = link.inertial->mass;
+    if (auto joint = link.parent_joint) {
       out.parent_joint = joint->name;
       out.parent_joint_movable = isMovable(joint->type) && !options_.locked_joints.count(joint->name);
     }
     const fs::path dir = fs::path(path_).parent_path();
-    for (const auto& c : link->collision_array) {
+    const std::string element = linkElement(link.name) + " <collision>";
+    for (const auto& c : link.collision_array) {
       if (!c || !c->geometry) continue;
+      requirePose(c->origin, path_, element);
       CollisionGeometry g;
       const Pose origin = toPose(c->origin);
       g.rotation = origin.R;
@@ -259,11 +479,13 @@ class Builder {
         case urdf::Geometry::SPHERE:
           g.shape = CollisionGeometry::Shape::Sphere;
           g.radius = static_cast<const urdf::Sphere&>(*c->geometry).radius;
+          requireSize(g.radius, element + " <sphere>", "radius");
           break;
         case urdf::Geometry::BOX: {
           const auto& b = static_cast<const urdf::Box&>(*c->geometry);
           g.shape = CollisionGeometry::Shape::Box;
           g.size = Vec3(b.dim.x, b.dim.y, b.dim.z);
+          for (int k = 0; k < 3; ++k) requireSize(g.size[k], element + " <box>", "size");
           break;
         }
         case urdf::Geometry::CYLINDER: {
@@ -271,6 +493,8 @@ class Builder {
           g.shape = CollisionGeometry::Shape::Cylinder;
           g.radius = cy.radius;
           g.length = cy.length;
+          requireSize(g.radius, element + " <cylinder>", "radius");
+          requireSize(g.length, element + " <cylinder>", "length");
           break;
         }
         case urdf::Geometry::MESH: {
@@ -278,6 +502,7 @@ class Builder {
           g.shape = CollisionGeometry::Shape::Mesh;
           g.mesh_file = resolveMesh(m.filename, dir);
           g.mesh_scale = Vec3(m.scale.x, m.scale.y, m.scale.z);
+          for (int k = 0; k < 3; ++k) requireWithin(g.mesh_scale[k], kMaxLength, path_, element + " <mesh>", "scale");
           break;
         }
       }
@@ -286,49 +511,25 @@ class Builder {
     const int index = static_cast<int>(model_.links.size());
     model_.links.push_back(out);
     if (parent_link >= 0) model_.links[parent_link].child_links.push_back(index);
-    addInertia(*link, body, placement);
+    addInertia(link, body, placement);
+    return index;
+  }
 
-    std::vector<urdf::JointSharedPtr> joints = link->child_joints;
-    std::sort(joints.begin(), joints.end(), [&](const auto& a, const auto& b) { return joint_rank_[a->name] < joint_rank_[b->name]; });
-    for (const auto& joint : joints) {
-      urdf::LinkConstSharedPtr child = urdf.getLink(joint->child_link_name);
-      if (!child) throw InputError(path_ + ": " + jointElement(joint->name) + ": child link '" + joint->child_link_name + "' does not exist");
-      const Pose origin = placement * toPose(joint->parent_to_joint_origin_transform);
-      Vec3 axis(joint->axis.x, joint->axis.y, joint->axis.z);
-      if (isMovable(joint->type)) {
-        requireFinite(axis.x() + axis.y() + axis.z(), path_, jointElement(joint->name) + " <axis>", "xyz");
-        if (axis.norm() < 1e-12) throw InputError(path_ + ": " + jointElement(joint->name) + " <axis>: the axis is zero");
-        axis.normalize();
-      }
-      const JointKind kind = joint->type == urdf::Joint::PRISMATIC ? JointKind::Prismatic : JointKind::Revolute;
-      auto locked = options_.locked_joints.find(joint->name);
-      if (!isMovable(joint->type) || locked != options_.locked_joints.end()) {
-        Pose motion;
-        if (locked != options_.locked_joints.end()) {
-          if (kind == JointKind::Revolute) motion.R = rotationAbout(axis, locked->second);
-          else motion.t = axis * locked->second;
-        }
-        visitLink(urdf, child, index, body, origin * motion);
-      } else {
-        const int child_body = addBody(child->name, joint->name, body, kind, axis, origin);
-        Body& b = model_.bodies[child_body];
-        auto arm = options_.armature.find(joint->name);
-        b.armature = arm != options_.armature.end() ? arm->second : options_.default_armature;
-        visitLink(urdf, child, index, child_body, Pose{});
-      }
-    }
+  void requireSize(double value, const std::string& element, const std::string& what) {
+    requireWithin(value, kMaxLength, path_, element, what);
+    if (value < 0) throw InputError(path_ + ": " + element + ": " + what + " is negative");
   }
 
   void checkInertial(const urdf::Link& link) {
     if (!link.inertial) return;
     const urdf::Inertial& in = *link.inertial;
     const std::string el = linkElement(link.name) + " <inertial>";
-    requireFinite(in.mass, path_, el + " <mass>", "value");
+    requireWithin(in.mass, kMaxMass, path_, el + " <mass>", "value");
     if (in.mass < 0) throw InputError(path_ + ": " + el + " <mass>: value is negative");
     const double values[6] = {in.ixx, in.ixy, in.ixz, in.iyy, in.iyz, in.izz};
     const char* names[6] = {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"};
-    for (int i = 0; i < 6; ++i) requireFinite(values[i], path_, el + " <inertia>", names[i]);
-    requireFinite(in.origin.position.x + in.origin.position.y + in.origin.position.z, path_, el + " <origin>", "xyz");
+    for (int i = 0; i < 6; ++i) requireWithin(values[i], kMaxInertia, path_, el + " <inertia>", names[i]);
+    requirePose(in.origin, path_, el);
     Mat3 I;
     I << in.ixx, in.ixy, in.ixz, in.ixy, in.iyy, in.iyz, in.ixz, in.iyz, in.izz;
     const Vec3 eig = Eigen::SelfAdjointEigenSolver<Mat3>(I).eigenvalues();

@@ -12,6 +12,8 @@
 #include <string_view>
 
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
+#include "common/limits.hpp"
 
 namespace nmdp {
 
@@ -45,7 +47,7 @@ std::string_view trim(std::string_view s) {
 
 [[noreturn]] void failAt(const std::string& path, long line, long column, const std::string& what) {
   std::ostringstream m;
-  m << path << ": line " << line;
+  m << displayPath(path) << ": line " << line;
   if (column > 0) m << ", column " << column;
   m << ": " << what;
   throw InputError(m.str());
@@ -53,11 +55,12 @@ std::string_view trim(std::string_view s) {
 
 // Parses one cell; throws InputError naming its position.
 double parseCell(std::string_view cell, const std::string& path, long line, long column) {
-  const std::string_view text = trim(cell);
-  if (text.empty())
+  const std::string_view whole = trim(cell);
+  const std::string text = std::string(whole.substr(0, 40)) + (whole.size() > 40 ? "..." : "");  // as messages show it
+  if (whole.empty())
     failAt(path, line, column,
            "empty cell: holes in a heightfield are not supported, every grid node needs a finite height");
-  std::string_view digits = text;
+  std::string_view digits = whole;
   if (digits.size() > 1 && digits.front() == '+') digits.remove_prefix(1);  // from_chars rejects '+'
   double value = 0.0;
   const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), value);
@@ -76,13 +79,7 @@ double parseCell(std::string_view cell, const std::string& path, long line, long
 }  // namespace
 
 HeightGrid readHeightGridCsv(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::exists(path, ec))
-    throw InputError(path + ": heightfield file not found");
-  if (!std::filesystem::is_regular_file(path, ec))
-    throw InputError(path + ": not a regular file (expected a CSV file of heights)");
-  std::ifstream in(path);
-  if (!in) throw InputError(path + ": cannot open the heightfield file for reading");
+  std::istringstream in(readInputFile(path, "heightfield file"));
 
   HeightGrid grid;
   long line_no = 0, first_row_line = 0;
@@ -98,6 +95,9 @@ HeightGrid readHeightGridCsv(const std::string& path) {
       const size_t comma = whole.find(',', start);
       const std::string_view cell = whole.substr(start, comma == std::string_view::npos ? std::string_view::npos : comma - start);
       ++column;
+      if (static_cast<std::int64_t>(grid.z.size()) >= limits::kMaxHeightfieldCells)
+        failAt(path, line_no, column, "more than " + std::to_string(limits::kMaxHeightfieldCells) +
+                                          " heights, beyond the largest heightfield nmdp takes (4096 x 4096)");
       grid.z.push_back(parseCell(cell, path, line_no, column));
       if (comma == std::string_view::npos) break;
       start = comma + 1;
@@ -114,7 +114,6 @@ HeightGrid readHeightGridCsv(const std::string& path) {
     if (grid.ny == INT_MAX) failAt(path, line_no, 0, "too many rows");
     ++grid.ny;
   }
-  if (in.bad()) throw InputError(path + ": read error");
   if (grid.nx < 2 || grid.ny < 2) {
     std::ostringstream m;
     m << path << ": a heightfield needs at least 2x2 values (2 rows of 2 comma-separated heights), got "

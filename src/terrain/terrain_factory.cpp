@@ -5,6 +5,8 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "common/input_file.hpp"
+#include "common/json_text.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/plane.hpp"
 #include "terrain/procedural.hpp"
@@ -45,7 +47,7 @@ void readPair(const nlohmann::json& object, const std::string& key, const Config
     return;
   }
   const std::vector<double> xs = readNumbers(object, key, {}, ctx);
-  if (xs.size() != 2) fail(ctx, key, "expected two numbers [x, y], got " + v.dump());
+  if (xs.size() != 2) fail(ctx, key, "expected two numbers [x, y], got " + jsonForMessage(v));
   a = xs[0];
   b = xs[1];
 }
@@ -53,16 +55,23 @@ void readPair(const nlohmann::json& object, const std::string& key, const Config
 double readSlope(double angle, const nlohmann::json& object, const ConfigContext& ctx) {
   if (!(std::abs(angle) < 0.5 * M_PI))
     fail(ctx, "slope",
-         "slope angles are in rad and must lie in (-pi/2, pi/2), got " + object.at("slope").dump() +
+         "slope angles are in rad and must lie in (-pi/2, pi/2), got " + jsonForMessage(object.at("slope")) +
              (std::abs(angle) >= 0.5 * M_PI && std::abs(angle) <= 90.0 ? " (degrees? multiply by pi/180)" : ""));
   return angle;
 }
 
+// Bounds of terrain sizes (m), far beyond any scene (Everest is 8.8 km high) and keeping the spline and
+// the hills' exponentials finite; hills of one terrain (each query sums over all of them).
+constexpr double kMaxHeight = 1e6;
+constexpr double kMinSpacing = 1e-6, kMaxSpacing = 1e6;
+constexpr double kMaxCoordinate = 1e9;
+constexpr size_t kMaxHills = 1000;
+
 std::unique_ptr<Terrain> makePlane(const nlohmann::json& config, const ConfigContext& ctx) {
   requireKnownKeys(config, kPlaneKeys, ctx);
   const Vec3 normal = readVec3(config, "normal", Vec3::UnitZ(), ctx);
-  if (!(normal.norm() > 1e-12)) fail(ctx, "normal", "the normal must be a non-zero vector, got " + config.at("normal").dump());
-  const double offset = readNumber(config, "offset", 0.0, ctx);
+  if (!(normal.norm() > 1e-12)) fail(ctx, "normal", "the normal must be a non-zero vector, got " + jsonForMessage(config.at("normal")));
+  const double offset = readNumber(config, "offset", 0.0, ctx, -kMaxHeight, kMaxHeight);
   return std::make_unique<PlaneTerrain>(normal, offset);
 }
 
@@ -76,11 +85,15 @@ std::unique_ptr<Terrain> makeHeightfield(const nlohmann::json& config, const Con
   double dx = 1.0, dy = 1.0, x0 = 0.0, y0 = 0.0;
   readPair(config, "spacing", ctx, true, 0.0, dx, dy);
   if (!(dx > 0.0) || !(dy > 0.0))
-    fail(ctx, "spacing", "the grid spacing must be positive, got " + config.at("spacing").dump());
+    fail(ctx, "spacing", "the grid spacing must be positive, got " + jsonForMessage(config.at("spacing")));
+  if (dx < kMinSpacing || dy < kMinSpacing || dx > kMaxSpacing || dy > kMaxSpacing)
+    fail(ctx, "spacing", "the grid spacing must lie in [1e-06, 1e+06] m, got " + jsonForMessage(config.at("spacing")));
   if (config.contains("origin") && config.at("origin").is_number())
-    fail(ctx, "origin", "expected two numbers [x0, y0], got " + config.at("origin").dump());
+    fail(ctx, "origin", "expected two numbers [x0, y0], got " + jsonForMessage(config.at("origin")));
   readPair(config, "origin", ctx, true, 0.0, x0, y0);
-  const double offset = readNumber(config, "offset", 0.0, ctx);
+  if (std::abs(x0) > kMaxCoordinate || std::abs(y0) > kMaxCoordinate)
+    fail(ctx, "origin", "the grid origin must lie within 1e9 m of the world origin, got " + jsonForMessage(config.at("origin")));
+  const double offset = readNumber(config, "offset", 0.0, ctx, -kMaxHeight, kMaxHeight);
 
   HeightGrid grid;
   const std::string path = ctx.resolve(file);
@@ -94,8 +107,8 @@ std::unique_ptr<Terrain> makeHeightfield(const nlohmann::json& config, const Con
   grid.dx = dx;
   grid.dy = dy;
   for (double& z : grid.z) {
+    if (std::abs(z) > kMaxHeight) fail(ctx, "file", displayPath(path) + ": a height of " + number(z) + " m is beyond 1e6 m");
     z += offset;
-    if (!std::isfinite(z)) fail(ctx, "offset", "heights + offset overflow");
   }
   return std::make_unique<HeightfieldTerrain>(std::move(grid), file);
 }
@@ -108,12 +121,13 @@ std::unique_ptr<Terrain> makeProcedural(const nlohmann::json& config, const Conf
     readSlope(sx, config, ctx);
     readSlope(sy, config, ctx);
   }
-  const double offset = readNumber(config, "offset", 0.0, ctx);
+  const double offset = readNumber(config, "offset", 0.0, ctx, -kMaxHeight, kMaxHeight);
   std::vector<GaussianHill> hills;
   if (config.contains("hills")) {
     const nlohmann::json& list = config.at("hills");
     if (!list.is_array())
-      fail(ctx, "hills", "expected a list of {\"centre\": [x, y], \"height\": h, \"width\": w}, got " + list.dump());
+      fail(ctx, "hills", "expected a list of {\"centre\": [x, y], \"height\": h, \"width\": w}, got " + jsonForMessage(list));
+    if (list.size() > kMaxHills) fail(ctx, "hills", std::to_string(list.size()) + " hills, more than the 1000 a terrain may have");
     for (size_t i = 0; i < list.size(); ++i) {
       ConfigContext hc = ctx;
       hc.where = ctx.where + ".hills[" + std::to_string(i) + "]";
@@ -123,11 +137,14 @@ std::unique_ptr<Terrain> makeProcedural(const nlohmann::json& config, const Conf
         if (!h.contains(key)) fail(hc, key, "missing (a hill needs centre [x, y], height and width, in m)");
       GaussianHill hill;
       if (h.at("centre").is_number())
-        fail(hc, "centre", "expected two numbers [x, y], got " + h.at("centre").dump());
+        fail(hc, "centre", "expected two numbers [x, y], got " + jsonForMessage(h.at("centre")));
       readPair(h, "centre", hc, true, 0.0, hill.cx, hill.cy);
-      hill.height = readNumber(h, "height", 0.0, hc);
-      hill.width = readNumber(h, "width", 1.0, hc);
-      if (!(hill.width > 0.0)) fail(hc, "width", "the width (standard deviation, m) must be positive, got " + number(hill.width));
+      if (std::abs(hill.cx) > kMaxCoordinate || std::abs(hill.cy) > kMaxCoordinate)
+        fail(hc, "centre", "must lie within 1e9 m of the world origin, got " + jsonForMessage(h.at("centre")));
+      hill.height = readNumber(h, "height", 0.0, hc, -kMaxHeight, kMaxHeight);
+      hill.width = readNumber(h, "width", 1.0, hc, -kMaxSpacing, kMaxSpacing);
+      if (!(hill.width >= kMinSpacing))
+        fail(hc, "width", "the width (standard deviation, m) must be at least 1e-06, got " + number(hill.width));
       hills.push_back(hill);
     }
   }
@@ -145,7 +162,7 @@ std::unique_ptr<Terrain> makeTerrain(const nlohmann::json& config, const ConfigC
   ConfigContext ctx = context;
   if (ctx.where.empty()) ctx.where = "terrain";
   if (config.is_null()) return std::make_unique<PlaneTerrain>();
-  if (!config.is_object()) fail(ctx, "", "expected a JSON object such as {\"type\": \"plane\"}, got " + config.dump());
+  if (!config.is_object()) fail(ctx, "", "expected a JSON object such as {\"type\": \"plane\"}, got " + jsonForMessage(config));
   if (!config.contains("type")) {
     // No type: the default plane, unless the keys given belong to another type.
     for (auto it = config.begin(); it != config.end(); ++it)

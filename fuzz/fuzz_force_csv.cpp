@@ -1,0 +1,18 @@
+// Force data in the CSV layout of granular/sand_samples (features.csv, wrench_samples.csv and
+// scalars.txt, given as one input separated by lines "@@"): imported as `nmdp fit --data FOLDER` does,
+// then fitted by an RBF when small enough to stay fast.
+#include "fuzz/fuzz_fit.hpp"
+#include "fuzz/fuzz_support.hpp"
+#include "training/force_dataset.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace nmdp;
+  fuzz::Scratch& scratch = fuzz::Scratch::get();
+  scratch.clear();
+  const std::vector<std::string> files = fuzz::split(fuzz::asText(data, size), 3);
+  scratch.write("features.csv", files[0]);
+  scratch.write("wrench_samples.csv", files[1]);
+  scratch.write("scalars.txt", files[2]);
+  fuzz::acceptingInputErrors([&] { fuzz::fitIfSmall(importSandSamplesCsv(scratch.dir()), FitConfig{}, scratch.dir()); });
+  return 0;
+}

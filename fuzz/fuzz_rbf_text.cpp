@@ -1,0 +1,16 @@
+// The published RBF text format (granular/robosimian_sand_rbf): inputs.txt and weights.txt, given as
+// one input with the two files separated by a line "@@", loaded as {"type": "rbf", "file": FOLDER}
+// and evaluated.
+#include "fuzz/fuzz_support.hpp"
+#include "fuzz/model_probe.hpp"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  using namespace nmdp;
+  fuzz::Scratch& scratch = fuzz::Scratch::get();
+  scratch.clear();
+  const std::vector<std::string> files = fuzz::split(fuzz::asText(data, size), 2);
+  scratch.write("inputs.txt", files[0]);
+  scratch.write("weights.txt", files[1]);
+  fuzz::acceptingInputErrors([&] { fuzz::probeContactModel({{"type", "rbf"}, {"file", scratch.dir()}, {"format", "published"}}); });
+  return 0;
+}
