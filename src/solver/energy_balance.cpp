@@ -16,7 +16,7 @@ bool hasGains(const PdGains& gains, Eigen::Index j) {
 MechanicalEnergy mechanicalEnergy(const Model& model, Data& data, const Eigen::VectorXd& q, const Eigen::VectorXd& qd) {
   crba(model, data, q);  // forward kinematics, then H
   MechanicalEnergy e;
-  e.kinetic = 0.5 * qd.dot(data.H * qd);
+  e.kinetic = 0.5 * qd.dot(data.H.lazyProduct(qd));  // lazy: no temporary vector inside a step
   e.gravity = gravityPotential(model, data, nullptr, nullptr);
   return e;
 }
