@@ -57,7 +57,7 @@
 // is written after the shrink, and closing the file clears the SWMR mark.
 //
 // Disk space: the file holds at most one chunk of rows beyond the steps written, about
-// chunk_rows · (16 n + 48 C + 61) bytes (277 kB for n = 18, C = 4, chunk_rows = 512). Before each
+// chunk_rows · (16 n + 48 C + 85) bytes (289 kB for n = 18, C = 4, chunk_rows = 512). Before each
 // growth (and before creating the file, for its first chunk) the free space of the file system and
 // the file size limit (RLIMIT_FSIZE) are checked against the chunk plus kSpaceReserve, the room the
 // end of the run needs: a chunk that does not fit throws OutOfSpace from append() before anything is
