@@ -220,11 +220,21 @@ def text(value):
     return str(value).rstrip("\0").strip()
 
 
-def load_run(path):
+def open_run(path):
+    """A run file: a run that ended opens plainly; a killed run is still marked by its SWMR writer
+    and opens as a SWMR reader (README, "simulate")."""
     import h5py
+
+    try:
+        return h5py.File(path, "r")
+    except OSError:
+        return h5py.File(path, "r", swmr=True)
+
+
+def load_run(path):
     import numpy as np
 
-    with h5py.File(path, "r") as f:
+    with open_run(path) as f:
         rows = len(f["time"])
         n = int(f["steps"][()]) if "steps" in f else rows
         d = dict(

@@ -9,8 +9,9 @@ complete steps N), /time, /base/position (x 3), /status if present, and the root
 (the resolved scene as JSON), which gives the title (robot, contact model, integrator method, dt)
 and the standing height robot.initial.height (drawn dashed, with a band of +-30 % around it) when
 it parses. The summary line gives the forward distance and the torso height range.
-Only the first /steps rows are used: a run that ended has exactly that many, a killed run keeps the
-writer's reserved rows after them (NaN). Files without /steps use len(/time).
+Only the first /steps rows are used: a run that ended has exactly that many, a killed run keeps up
+to a chunk of NaN rows after them. A killed run's file is still marked by its SWMR writer and is
+opened as a SWMR reader (h5py swmr=True). Files without /steps use len(/time).
 Exits with status 1 and a one-line message when the file is missing, not HDF5, or lacks the data.
 """
 import json
@@ -40,8 +41,11 @@ def read_run(path):
         fail(f"{path}: no such file")
     try:
         f = h5py.File(path, "r")
-    except OSError as e:
-        fail(f"{path}: cannot open as HDF5 ({e})")
+    except OSError:
+        try:
+            f = h5py.File(path, "r", swmr=True)  # a killed run
+        except OSError as e:
+            fail(f"{path}: cannot open as HDF5 ({e})")
     with f:
         for name in ("time", "base/position"):
             if name not in f:

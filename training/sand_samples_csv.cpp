@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "common/input_error.hpp"
+#include "io/output_path.hpp"
 
 namespace nmdp {
 
@@ -19,12 +20,8 @@ std::string text(double x) {
   return std::string(buffer, r.ptr);
 }
 
-void writeFile(const std::filesystem::path& path, const std::string& content) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << content;
-  out.close();
-  if (!out) throw InputError(path.string() + ": cannot write the file");
-}
+// Under a unique temporary name, renamed into place (io/output_path.hpp).
+void writeFile(const std::filesystem::path& path, const std::string& content) { writeFileAtomically(path.string(), content); }
 }  // namespace
 
 void writeSandSamplesCsv(const std::string& folder, const ForceDataset& data) {

@@ -14,6 +14,7 @@
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
 #include "io/json_params.hpp"
+#include "io/output_path.hpp"
 #include "training/fit_config.hpp"
 #include "training/force_dataset.hpp"
 #include "training/mlp_fit.hpp"
@@ -182,6 +183,13 @@ int runFit(const Args& args) {
       throw InputError("unknown argument '" + a + "' (see nmdp fit --help)");
   }
   if (out.empty()) throw InputError("--out is required (see nmdp fit --help)");
+  // The output replaces no input and no file nmdp did not write (io/output_path.hpp).
+  std::vector<RunInput> inputs = filesInFolder(import_csv, "a file of --import-csv's folder");
+  for (const RunInput& file : filesInFolder(data, "a file of --data's folder")) inputs.push_back(file);
+  inputs.push_back({data, "the --data file"});
+  if (config.find_first_not_of(" \t") != std::string::npos && config[config.find_first_not_of(" \t")] != '{')
+    inputs.push_back({config, "the --config file"});
+  checkOutputFile(out, inputs, "--out");
 
   if (!import_csv.empty()) {
     if (!data.empty() || !model.empty() || !config.empty())

@@ -6,6 +6,7 @@
 #include "app/commands.hpp"
 #include "app/json_argument.hpp"
 #include "common/input_error.hpp"
+#include "io/output_path.hpp"
 #include "training/force_dataset.hpp"
 #include "training/rft.hpp"
 #include "training/rft_config.hpp"
@@ -56,6 +57,14 @@ int runGenRft(const Args& args) {
   }
   if (out.empty()) throw InputError("--out is required: a folder, or a file ending in .h5 (see nmdp gen-rft --help)");
 
+  // The output replaces no input and nothing nmdp did not write (io/output_path.hpp).
+  const std::vector<RunInput> inputs = {{where == "defaults" || where == "--config" ? "" : where, "the --config file"}};
+  const std::vector<std::string> folder_files = {"features.csv", "wrench_samples.csv", "scalars.txt", "rft_config.json"};
+  if (endsWith(out, ".h5"))
+    checkOutputFile(out, inputs, "--out");
+  else
+    checkOutputFolder(out, folder_files, inputs, "--out");
+
   const RftConfig c = readRftConfig(config, where);
   ForceDataset data = rftSamples(c.medium, c.foot, c.grid);
   const std::string resolved = c.resolved.dump(2);
@@ -65,13 +74,13 @@ int runGenRft(const Args& args) {
     writeForceDataset(out, data);
     written.push_back(out);
   } else {
+    std::error_code ec;
+    std::filesystem::create_directories(out, ec);
+    if (!std::filesystem::is_directory(out, ec)) throw InputError(out + ": cannot create the folder");
+    writeFolderMarker(out, "gen-rft", folder_files);  // first: a folder left half-written is still ours
     writeSandSamplesCsv(out, data);
-    const std::string config_path = (std::filesystem::path(out) / "rft_config.json").string();
-    std::ofstream f(config_path, std::ios::binary | std::ios::trunc);
-    f << resolved << "\n";
-    f.close();
-    if (!f) throw InputError(config_path + ": cannot write the file");
-    written = {"features.csv", "wrench_samples.csv", "scalars.txt", "rft_config.json"};
+    writeFileAtomically((std::filesystem::path(out) / "rft_config.json").string(), resolved + "\n");
+    written = folder_files;
   }
 
   const Eigen::Index K = static_cast<Eigen::Index>(c.grid.directions.size());

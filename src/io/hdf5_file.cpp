@@ -8,6 +8,7 @@
 #include "common/input_file.hpp"
 #include "common/limits.hpp"
 #include "io/hdf5_handle.hpp"
+#include "io/output_path.hpp"
 
 namespace nmdp::h5 {
 
@@ -41,17 +42,24 @@ File File::openRead(const std::string& path) {
   silenceHdf5();
   requireRegularFile(path, "HDF5 file", kMaxHdf5FileBytes);
   if (H5Fis_hdf5(path.c_str()) <= 0) fail(path, "not an HDF5 file");
-  const hid_t id = H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  const hid_t id = openReadOnly(path);
   if (id < 0) fail(path, "cannot open the HDF5 file");
   return File(id, path, "");
 }
 
 File File::createAtomic(const std::string& path) {
   silenceHdf5();
-  const std::string partial = path + ".partial";
-  const hid_t id = H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (id < 0) fail(path, "cannot create the file (is the folder writable?)");
-  return File(id, partial, path);
+  for (int attempt = 0;; ++attempt) {
+    const std::string partial = temporaryPathFor(path);
+    const hid_t id = H5Fcreate(partial.c_str(), H5F_ACC_EXCL, H5P_DEFAULT, H5P_DEFAULT);
+    if (id < 0) {
+      if (pathExists(partial) && attempt < 100) continue;  // another writer took the name meanwhile
+      fail(path, "cannot create the file (is the folder writable?)");
+    }
+    File file(id, partial, path);
+    file.writeStringAttribute("/", "nmdp_output", "nmdp");  // the marker of io/output_path.hpp
+    return file;
+  }
 }
 
 bool File::exists(const std::string& object) const {

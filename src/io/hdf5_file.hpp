@@ -11,10 +11,12 @@ namespace nmdp::h5 {
 
 class File {
  public:
-  // Opens an existing file for reading.
+  // Opens an existing file for reading (also a trajectory whose writer was killed: see
+  // openReadOnly in hdf5_handle.hpp).
   static File openRead(const std::string& path);
-  // Creates `path + ".partial"`; commit() renames it to `path`, so a reader never sees a half-written
-  // file. Destroying an uncommitted file removes the partial file.
+  // Creates a file under a unique temporary name beside `path` (io/output_path.hpp) with the root
+  // attribute nmdp_output, the marker of files nmdp wrote; commit() renames it to `path`, so a reader
+  // never sees a half-written file. Destroying an uncommitted file removes the temporary file.
   static File createAtomic(const std::string& path);
   File(File&& other) noexcept;
   File& operator=(File&&) = delete;

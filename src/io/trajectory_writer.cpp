@@ -1,5 +1,8 @@
 #include "io/trajectory_writer.hpp"
 
+#include <sys/resource.h>
+#include <sys/statvfs.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -8,8 +11,9 @@
 #include <limits>
 #include <stdexcept>
 
+#include "common/input_file.hpp"
 #include "io/hdf5_handle.hpp"
-#include "common/input_error.hpp"
+#include "io/output_path.hpp"
 
 namespace nmdp {
 
@@ -23,6 +27,32 @@ hid_t variableString() {
   H5Tset_cset(type, H5T_CSET_UTF8);
   return type;
 }
+
+std::string megabytes(long long bytes) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g MB", static_cast<double>(bytes) * 1e-6);
+  return text;
+}
+
+// Why `bytes` more do not fit in the file `path` (now `file_size` bytes) in `folder`, or "" if they
+// do with kSpaceReserve to spare: the file system's free space for unprivileged users, and the
+// process's file size limit (RLIMIT_FSIZE, `ulimit -f`).
+std::string spaceShortage(const std::string& folder, long long file_size, long long bytes, long long reserve) {
+  struct statvfs fs;
+  if (::statvfs(folder.c_str(), &fs) == 0) {
+    const long long free_bytes = static_cast<long long>(fs.f_bavail) * static_cast<long long>(fs.f_frsize);
+    if (free_bytes < bytes + reserve)
+      return "the disk holding " + displayPath(folder) + " has " + megabytes(free_bytes) + " free, and the next " +
+             megabytes(bytes) + " of the trajectory need " + megabytes(bytes + reserve) + " with the " +
+             megabytes(reserve) + " kept for ending the run";
+  }
+  struct rlimit limit;
+  if (::getrlimit(RLIMIT_FSIZE, &limit) == 0 && limit.rlim_cur != RLIM_INFINITY &&
+      static_cast<long long>(limit.rlim_cur) < file_size + bytes + reserve)
+    return "the file size limit (ulimit -f) is " + megabytes(static_cast<long long>(limit.rlim_cur)) +
+           ", and the file of " + megabytes(file_size) + " needs " + megabytes(bytes + reserve) + " more";
+  return "";
+}
 }  // namespace
 
 void TrajectoryWriter::error(const std::string& what) const { throw InputError(path_ + ": " + what); }
@@ -33,52 +63,65 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
       C_(static_cast<int>(layout.contact_names.size())),
       flush_every_(layout.flush_every),
       flush_interval_(layout.flush_interval),
-      chunk_rows_(layout.chunk_rows),
-      extent_(layout.capacity) {
+      chunk_rows_(layout.chunk_rows) {
   if (layout.flush_every < 1) throw std::invalid_argument("TrajectoryLayout::flush_every must be >= 1");
   if (layout.chunk_rows < 1) throw std::invalid_argument("TrajectoryLayout::chunk_rows must be >= 1");
-  if (layout.capacity < 0) throw std::invalid_argument("TrajectoryLayout::capacity must be >= 0");
+  for (const auto& [name, value] : layout.string_attributes)
+    if (name == "config" || name == "nmdp_output")
+      throw std::invalid_argument("TrajectoryLayout: the attribute '" + name + "' is reserved");
+  for (const auto& [name, value] : layout.number_attributes)
+    if (name == "config" || name == "nmdp_output" || layout.string_attributes.count(name))
+      throw std::invalid_argument("TrajectoryLayout: duplicate root attribute '" + name + "'");
   silenceHdf5();
   namespace fs = std::filesystem;
-  const fs::path parent = fs::absolute(fs::path(path)).parent_path();
   std::error_code ec;
-  if (!fs::is_directory(parent, ec)) error("cannot create the trajectory file: the folder " + parent.string() + " does not exist");
+  const fs::path parent = fs::absolute(fs::path(path), ec).parent_path();
+  if (ec || !fs::is_directory(parent, ec))
+    error("cannot create the trajectory file: the folder " + parent.string() + " does not exist");
   if (fs::is_directory(path, ec)) error("cannot create the trajectory file: a folder of that name exists");
-  const std::string partial = path + ".partial";
+  folder_ = parent.string();
+  // One chunk of every per-step dataset: time, q, qdot, base position and rpy, wrench, 3 int32
+  // stats, 2 float64 stats, converged.
+  chunk_bytes_ = static_cast<long long>(chunk_rows_) * (8 + 16LL * n_ + 48 + 48LL * C_ + 12 + 16 + 1);
+  // The metadata written with the first chunk (groups, names, attributes, the chunk indexes): a
+  // generous bound, so that a file that starts always ends.
+  const long long first_metadata = 64 * 1024 + 2 * static_cast<long long>(layout.config_json.size());
+  if (const std::string shortage = spaceShortage(folder_, 0, chunk_bytes_ + first_metadata, kSpaceReserve);
+      !shortage.empty())
+    throw OutOfSpace(path_ + ": cannot start the run: " + shortage);
 
-  // 1.8 format: no superblock status flags, so a killed file opens without h5clear; metadata cache
-  // that never evicts, so metadata is written only by our flushes (and after the constructor's flush
-  // nothing is dirty until finish(), unless the datasets grow).
+  // The latest format, which SWMR needs; file locking where the file system offers it. No chunk
+  // cache, for every dataset (H5Fstart_swmr_write reopens the datasets with the file's default): a
+  // row goes straight to its allocated place, and a flush writes the rows, not whole chunks.
   Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
-  H5Pset_libver_bounds(fapl.id, H5F_LIBVER_V18, H5F_LIBVER_V18);
-  H5Pset_meta_block_size(fapl.id, 256 * 1024);
-  H5Pset_small_data_block_size(fapl.id, 1024 * 1024);
-  H5AC_cache_config_t mdc;
-  mdc.version = H5AC__CURR_CACHE_CONFIG_VERSION;
-  H5Pget_mdc_config(fapl.id, &mdc);
-  mdc.evictions_enabled = 0;
-  mdc.incr_mode = H5C_incr__off;
-  mdc.flash_incr_mode = H5C_flash_incr__off;
-  mdc.decr_mode = H5C_decr__off;
-  if (H5Pset_mdc_config(fapl.id, &mdc) < 0) error("cannot configure the HDF5 metadata cache");
-
-  file_ = H5Fcreate(partial.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, fapl.id);
-  if (file_ < 0) error("cannot create the trajectory file (is the folder writable?)");
+  H5Pset_libver_bounds(fapl.id, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
+  H5Pset_file_locking(fapl.id, 1, 1);
+  if (H5Pset_cache(fapl.id, 0, 0, 0, 1.0) < 0) error("cannot configure the HDF5 chunk cache");
+  // Paged file space: every metadata block smaller than a page lies within one 4 kB page.
+  Handle fcpl{H5Pcreate(H5P_FILE_CREATE), H5Pclose};
+  H5Pset_file_space_strategy(fcpl.id, H5F_FSPACE_STRATEGY_PAGE, 0, 1);
+  H5Pset_file_space_page_size(fcpl.id, 4096);
+  std::string partial;
+  for (int attempt = 0; file_ < 0; ++attempt) {
+    partial = temporaryPathFor(path);
+    file_ = H5Fcreate(partial.c_str(), H5F_ACC_EXCL, fcpl.id, fapl.id);
+    if (file_ < 0 && !(pathExists(partial) && attempt < 100))
+      error("cannot create the trajectory file (is the folder writable?)");
+  }
   try {
     for (const char* g : {"/base", "/contacts", "/stats"}) {
       Handle group{H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
       if (group.id < 0) error(std::string("cannot create group '") + g + "'");
     }
     const hsize_t chunk_rows = static_cast<hsize_t>(layout.chunk_rows);
-    // Every per-step dataset: extent = capacity rows now, chunks allocated and filled now (NaN for
-    // float64, 0 for integers), unlimited rows only so that growth and the final shrink are possible.
-    // No chunk cache: a row is written straight to its allocated place (raw data only).
+    // Every per-step dataset: chunked, rows unlimited; its first chunk allocated and filled now (NaN
+    // for float64, 0 for integers), and so is every chunk growth adds.
     Handle dapl{H5Pcreate(H5P_DATASET_ACCESS), H5Pclose};
     if (H5Pset_chunk_cache(dapl.id, 0, 0, 1.0) < 0) error("cannot configure the HDF5 chunk cache");
     auto create = [&](Column& c, const char* name, hid_t file_type, hid_t mem_type, int rank, hsize_t d1, hsize_t d2) {
       c.rank = rank;
       c.memtype = mem_type;
-      c.dims[0] = static_cast<hsize_t>(extent_);
+      c.dims[0] = chunk_rows;
       c.dims[1] = d1;
       c.dims[2] = d2;
       hsize_t maxdims[3] = {H5S_UNLIMITED, d1, d2}, chunk[3] = {chunk_rows, std::max<hsize_t>(d1, 1), std::max<hsize_t>(d2, 1)};
@@ -96,7 +139,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
                                                 : H5Pset_fill_value(dcpl.id, H5T_NATIVE_LLONG, &zero) < 0)
         error(std::string("cannot set the fill value of '") + name + "'");
       c.dataset = H5Dcreate2(file_, name, file_type, space.id, H5P_DEFAULT, dcpl.id, dapl.id);
-      if (c.dataset < 0) error(std::string("cannot create dataset '") + name + "'");
+      if (c.dataset < 0) error(std::string("cannot create dataset '") + name + "' (disk full?)");
       c.filespace = H5Dget_space(c.dataset);
       hsize_t block[3] = {static_cast<hsize_t>(flush_every_), d1, d2};
       c.memspace = H5Screate_simple(rank, block, nullptr);
@@ -115,6 +158,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
     create(data_[kWall], "/stats/wall_time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
     create(data_[kConv], "/stats/converged", H5T_STD_U8LE, H5T_NATIVE_UINT8, 1, 0, 0);
     create(data_[kTime], "/time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
+    extent_ = layout.chunk_rows;
 
     auto writeNames = [&](const char* name, const std::vector<std::string>& values) {
       const hsize_t dims[1] = {values.size()};
@@ -137,13 +181,9 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
       if (a.id < 0 || H5Awrite(a.id, type.id, &raw) < 0) error("cannot write root attribute '" + name + "'");
     };
     stringAttribute("config", layout.config_json);
-    for (const auto& [name, value] : layout.string_attributes) {
-      if (name == "config") throw std::invalid_argument("TrajectoryLayout: the attribute 'config' is reserved");
-      stringAttribute(name, value);
-    }
+    stringAttribute("nmdp_output", "trajectory");
+    for (const auto& [name, value] : layout.string_attributes) stringAttribute(name, value);
     for (const auto& [name, value] : layout.number_attributes) {
-      if (name == "config" || layout.string_attributes.count(name))
-        throw std::invalid_argument("TrajectoryLayout: duplicate root attribute '" + name + "'");
       Handle space{H5Screate(H5S_SCALAR), H5Sclose};
       Handle a{H5Acreate2(file_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
       if (a.id < 0 || H5Awrite(a.id, H5T_NATIVE_DOUBLE, &value) < 0) error("cannot write root attribute '" + name + "'");
@@ -159,9 +199,9 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
       Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
       H5Pset_layout(dcpl.id, H5D_CONTIGUOUS);
       H5Pset_alloc_time(dcpl.id, H5D_ALLOC_TIME_EARLY);
+      H5Pset_obj_track_times(dcpl.id, 0);
       status_dataset_ = H5Dcreate2(file_, "/status", status_type_, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
       if (status_dataset_ < 0) error("cannot create dataset '/status'");
-      H5Pset_obj_track_times(dcpl.id, 0);
       steps_dataset_ = H5Dcreate2(file_, "/steps", H5T_STD_I64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
       if (steps_dataset_ < 0) error("cannot create dataset '/steps'");
     }
@@ -169,6 +209,9 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
     wrench_buffer_.assign(static_cast<size_t>(C_) * 6, 0.0);
     writeStatus("running");
     writeSteps(0);
+    // From here on HDF5 orders its metadata writes so that the file is valid whenever it stops
+    // (the header comment); it flushes everything first.
+    if (H5Fstart_swmr_write(file_) < 0) error("cannot start writing in SWMR mode (disk full?)");
     flushFile();
     last_commit_ = std::chrono::steady_clock::now();
   } catch (...) {
@@ -239,6 +282,7 @@ void TrajectoryWriter::append(double time, const Eigen::VectorXd& q, const Eigen
   if (q.size() != n_ || qdot.size() != n_ || static_cast<int>(contact_wrench.size()) != C_)
     throw std::invalid_argument("TrajectoryWriter::append: q, qdot must have " + std::to_string(n_) +
                                 " entries and contact_wrench " + std::to_string(C_));
+  if (rows_ == extent_) grow();  // before anything of this step is staged: OutOfSpace leaves no trace
   for (int c = 0; c < C_; ++c) std::copy(contact_wrench[c].data(), contact_wrench[c].data() + 6, &wrench_buffer_[6 * c]);
   const unsigned char converged = stats.converged ? 1 : 0;
   stage(data_[kQ], q.data());
@@ -268,13 +312,19 @@ void TrajectoryWriter::setExtent(long rows) {
   extent_ = rows;
 }
 
+void TrajectoryWriter::grow() {
+  haddr_t end_of_file = 0;
+  H5Fget_eoa(file_, &end_of_file);
+  if (const std::string shortage = spaceShortage(folder_, static_cast<long long>(end_of_file), chunk_bytes_, kSpaceReserve);
+      !shortage.empty())
+    throw OutOfSpace(path_ + ": " + shortage);
+  // A chunk of every dataset, allocated and filled at once, its index and extent flushed (in SWMR
+  // order) before any row is written there.
+  setExtent(extent_ + chunk_rows_);
+  flushFile();
+}
+
 void TrajectoryWriter::commitPending() {
-  if (rows_ > extent_) {
-    // More steps than reserved: grow (allocated and filled at once) and flush that metadata before
-    // any row relies on it. The only metadata change mid-run; see the header comment.
-    setExtent(std::max(rows_, extent_ + std::max<long>(chunk_rows_, extent_ / 2)));
-    flushFile();
-  }
   for (Column& c : data_) writeRows(c);
   flushFile();  // 1: the rows are on disk before /steps announces them
   writeSteps(rows_);
@@ -330,11 +380,22 @@ void TrajectoryWriter::fail(const std::string& reason) {
   closeAll();
 }
 
+void TrajectoryWriter::interrupt(const std::string& how) {
+  if (file_ < 0) throw std::logic_error("TrajectoryWriter::interrupt after the run ended");
+  try {
+    end("interrupted " + how);
+  } catch (...) {
+    closeAll();
+    throw;
+  }
+  closeAll();
+}
+
 std::string TrajectoryWriter::readStatus(const std::string& path) {
   silenceHdf5();
   auto fail = [&](const std::string& what) -> std::string { throw InputError(path + ": " + what); };
-  if (!std::filesystem::exists(path)) fail("no such file");
-  Handle file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+  if (!pathExists(path)) fail("no such file");
+  Handle file{h5::openReadOnly(path), H5Fclose};
   if (file.id < 0) fail("cannot open the HDF5 file");
   if (H5Lexists(file.id, "/status", H5P_DEFAULT) <= 0) fail("dataset '/status' is missing");
   Handle d{H5Dopen2(file.id, "/status", H5P_DEFAULT), H5Dclose};
@@ -354,8 +415,8 @@ std::string TrajectoryWriter::readStatus(const std::string& path) {
 long TrajectoryWriter::readSteps(const std::string& path) {
   silenceHdf5();
   auto fail = [&](const std::string& what) -> long { throw InputError(path + ": " + what); };
-  if (!std::filesystem::exists(path)) fail("no such file");
-  Handle file{H5Fopen(path.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT), H5Fclose};
+  if (!pathExists(path)) fail("no such file");
+  Handle file{h5::openReadOnly(path), H5Fclose};
   if (file.id < 0) fail("cannot open the HDF5 file");
   if (H5Lexists(file.id, "/steps", H5P_DEFAULT) > 0) {
     Handle d{H5Dopen2(file.id, "/steps", H5P_DEFAULT), H5Dclose};

@@ -1,7 +1,8 @@
-// Writes a simulation run to HDF5 step by step, in the layout of DESIGN.md 11, so that a run that is
-// killed (SIGKILL, out of memory, power cut of the process) still leaves a file h5py opens.
+// Writes a simulation run to HDF5 step by step, in the layout of DESIGN.md 11, growing the file as
+// the run goes, so that a run that is killed (SIGKILL, out of memory, power cut of the process)
+// still leaves a file HDF5 opens, holding every committed step.
 //
-// Layout (N steps, n = dof, C = contacts, R = reserved rows, see below):
+// Layout (N steps, n = dof, C = contacts, R ≥ N rows allocated, see below):
 //   /steps                  int64 scalar       — THE step count: read /steps rows. len(/time) equals
 //                                                it for every run that ended (finish(), fail() or the
 //                                                destructor); a killed run keeps R ≥ /steps rows,
@@ -17,47 +18,57 @@
 //   /stats/min_substep, /stats/wall_time                             float64 (N), seconds
 //   /stats/converged                                                  uint8 (N), 0 or 1
 //   /status                 scalar fixed-length string (kStatusBytes, NUL-terminated): "running" while
-//                           writing, "complete" after finish(), "failed: <reason>" after fail();
-//                           a dataset because it is rewritten in place during the run
-//   root attribute `config` (UTF-8 JSON text of the resolved scene) and the layout's extra attributes.
+//                           writing, "complete" after finish(), "failed: <reason>" after fail(),
+//                           "interrupted <how>" after interrupt(); a dataset because it is rewritten
+//                           in place during the run
+//   root attributes: `config` (UTF-8 JSON text of the resolved scene), `nmdp_output` = "trajectory"
+//   (the marker of io/output_path.hpp) and the layout's extra attributes.
 // Reading (h5py):  n = int(f["steps"][()]); t = f["time"][:n]; q = f["q"][:n]; ...
 // (files without /steps, older than this writer, hold exactly len(/time) rows).
 //
-// Crash safety: NO metadata changes while the run goes. The constructor reserves
-// R = TrajectoryLayout::capacity rows in every per-step dataset: full extent R from the start, all
-// storage allocated at creation (chunked, H5D_ALLOC_TIME_EARLY) and filled with NaN (float64) or 0
-// (integers). From then on a step only overwrites already-allocated bytes in place (raw data; the
-// chunk cache is disabled so each row goes straight to its place in the file), and so do /steps and
+// Opening: a run that ended (finish(), fail(), interrupt() or the destructor: every way but a kill) closes its
+// file, which then opens like any HDF5 file (h5py.File(path)). While the writer runs, and after it
+// is killed, the file is marked as open by a SWMR writer, and opens only as a SWMR reader:
+// h5py.File(path, "r", swmr=True) (or H5F_ACC_SWMR_READ; `h5clear -s path` from hdf5-tools clears
+// the mark for good). nmdp's own readers (readStatus, readSteps, h5::File::openRead) try both.
+// The file format is HDF5 1.10's (superblock 3, extensible-array chunk index): HDF5 ≥ 1.10 reads it.
+//
+// Crash safety: HDF5's single-writer/multiple-reader mode (SWMR, H5Fstart_swmr_write after every
+// object exists). In it, HDF5 writes metadata in dependency order (a chunk index before the extent
+// that uses it, checksummed), so the file in the page cache is a valid file at every instant, and a
+// SWMR reader opens it whenever the writer stops. The per-step datasets are chunked (chunk_rows rows)
+// and grow by one chunk at a time: when a step needs a row beyond the R allocated, every per-step
+// dataset is extended by chunk_rows rows, allocated and filled with NaN (float64) or 0 (integers) at
+// once (H5D_ALLOC_TIME_EARLY), and flushed before any row is written there. A step only writes
+// already-allocated bytes in place (raw data; the chunk cache is disabled), and so do /steps and
 // /status (contiguous, allocated at creation). A commit is ordered:
 //   1. the new rows of every dataset, then H5Fflush;
 //   2. /steps = number of complete rows, then H5Fflush.
-// A kill at any instant therefore leaves the file's metadata exactly as the constructor flushed it
-// (valid, checksummed, 1.8 format: superblock v2 without status flags, so plain h5py.File(path) opens
-// it — no SWMR, no h5clear), /steps ≤ the rows really on disk (the rows after /steps, at most one
-// commit's worth, may hold data, later ones are NaN/0), and each row < /steps complete. The metadata
-// cache never evicts, so no metadata is written outside our flushes at all. Verified by the tests:
-// after many appends every changed byte of the file lies in raw data (NoMetadataChangesWhileRunning),
-// and random SIGKILLs (RepeatedSigkillsAtRandomMoments).
-// Steps after the last commit are lost (at most flush_every − 1 steps and flush_interval seconds,
-// see TrajectoryLayout; with the default flush_every = 1 nothing that append() returned from).
-// Flushing is write(2) to the page cache, no fsync: it protects against the process dying, not the
-// machine. A file killed mid-run keeps /status = "running".
+// A kill at any instant therefore leaves /steps ≤ the rows really on disk (the rows after /steps, at
+// most one commit's worth, may hold data, later ones are NaN/0) and each row < /steps complete.
+// Verified by the test RepeatedSigkillsAtRandomMoments (random SIGKILLs, the datasets growing
+// throughout). Steps after the last commit are lost (at most flush_every − 1 steps and
+// flush_interval seconds, see TrajectoryLayout; with the default flush_every = 1 nothing that
+// append() returned from). Flushing is write(2) to the page cache, no fsync: it protects against the
+// process dying, not the machine. A file killed mid-run keeps /status = "running".
+// The end: finish(), fail() and the destructor shrink every per-step dataset to the rows written
+// (H5Dset_extent, still in SWMR mode, so a kill then leaves a SWMR-readable file too) so that a run
+// that ended has exactly the DESIGN.md 11 layout; the rows and /steps are committed before, /status
+// is written after the shrink, and closing the file clears the SWMR mark.
 //
-// The two places metadata does change, both documented windows where a kill is NOT guaranteed safe:
-//  - growth: if more than `capacity` steps are appended, the datasets are extended (by
-//    max(chunk_rows, extent / 2) rows, allocated and filled at once, then flushed before any row
-//    uses them) — the only mid-run metadata change; give a capacity with a margin to avoid it;
-//  - the end: finish(), fail() and the destructor shrink every per-step dataset to the rows written
-//    (H5Dset_extent) so a run that ended has exactly the DESIGN.md 11 layout; the rows and /steps are
-//    committed before, /status is written after the shrink.
-// Cost: the file holds R rows from the start (~ (16 n + 48 C + 61) bytes per row), written once as
-// fill at creation. Space freed by the final shrink is not always returned to the file system
-// (h5repack compacts a file).
+// Disk space: the file holds at most one chunk of rows beyond the steps written, about
+// chunk_rows · (16 n + 48 C + 85) bytes (289 kB for n = 18, C = 4, chunk_rows = 512). Before each
+// growth (and before creating the file, for its first chunk) the free space of the file system and
+// the file size limit (RLIMIT_FSIZE) are checked against the chunk plus kSpaceReserve, the room the
+// end of the run needs: a chunk that does not fit throws OutOfSpace from append() before anything is
+// written (the file and the writer stay as they were, so fail() then ends the run with every step
+// appended before), and from the constructor before the file exists.
 //
-// Creation: the file is built as `path + ".partial"` and renamed onto `path` only once every dataset
-// exists, so an existing file is replaced only by a valid new one. Errors throw InputError naming
-// the file. append() allocates nothing in this class once constructed (HDF5 itself may), and nothing
-// is ever printed.
+// Creation: the file is built under a unique temporary name in the destination folder
+// (io/output_path.hpp) and renamed onto `path` once every dataset exists and the first chunk is
+// allocated, so an existing file is replaced only by a valid new one; a failed creation removes
+// it. Errors throw InputError naming the file. append() allocates nothing in this class once
+// constructed (HDF5 itself may), and nothing is ever printed.
 #pragma once
 #include <Eigen/Core>
 #include <chrono>
@@ -65,6 +76,7 @@
 #include <string>
 #include <vector>
 
+#include "common/input_error.hpp"
 #include "multibody/spatial.hpp"
 #include "solver/integrator_types.hpp"
 
@@ -76,24 +88,30 @@ struct TrajectoryLayout {
   std::string config_json;                 // root attribute `config`
   std::map<std::string, std::string> string_attributes;  // extra root attributes, e.g. robot, method
   std::map<std::string, double> number_attributes;       // e.g. dt
-  // Rows reserved in every per-step dataset at creation (see the header comment). Set it to the
-  // number of rows the run will append (a margin is cheap): appending more grows the datasets, the
-  // only mid-run metadata change. 0 reserves nothing (every chunk is then added by growth).
-  long capacity = 0;
   // A step reaches the disk when k = flush_every steps are pending or flush_interval seconds (wall
   // clock) passed since the last flush, whichever comes first: a kill loses at most k − 1 steps and
-  // at most flush_interval seconds of work. Measured for n = 18, C = 4 (test AppendCost, ext4):
-  // flush_every = 1 costs ~20 µs per step (12 in-place row writes, 2 H5Fflush with nothing but raw
-  // data to write; it was ~100 µs when each flush grew the datasets), 10 ~2.5 µs, 50 ~0.7 µs. The
-  // default 1 loses nothing that append() returned from.
+  // at most flush_interval seconds of work. The default 1 loses nothing that append() returned
+  // from; its cost, measured by the test AppendCost, is in docs/notes/2026-11-26-output-safety.md
+  // (about 30 µs per step for n = 18, C = 4, against a step of 0.5 ms or more).
   int flush_every = 1;
   double flush_interval = 1.0;
-  int chunk_rows = 512;  // rows per HDF5 chunk
+  // Rows per HDF5 chunk, and the rows by which the per-step datasets grow when full.
+  int chunk_rows = 512;
 };
 
 class TrajectoryWriter {
  public:
   static constexpr int kStatusBytes = 512;  // longer failure reasons are truncated
+  // Free space kept for the end of the run (its last commit, the final shrink, /status and the
+  // closing metadata write a few kB) beyond each chunk: a chunk is added only if the file system
+  // keeps at least this much afterwards.
+  static constexpr long long kSpaceReserve = 1 << 20;
+
+  // The next chunk does not fit on the disk (or under the file size limit); what() says so with the
+  // numbers. Nothing was written: the writer can still finish() or fail().
+  struct OutOfSpace : InputError {
+    using InputError::InputError;
+  };
 
   // Creates the file (see above) with status "running". Throws InputError naming `path`.
   TrajectoryWriter(const std::string& path, const TrajectoryLayout& layout);
@@ -103,19 +121,21 @@ class TrajectoryWriter {
   TrajectoryWriter& operator=(const TrajectoryWriter&) = delete;
 
   // Appends one step. Sizes must match the layout (std::invalid_argument otherwise); HDF5 failures
-  // throw InputError. Throws std::logic_error after finish() or fail(). Past `capacity` steps the
-  // datasets grow (a metadata change: see the header comment).
+  // throw InputError. Throws std::logic_error after finish() or fail(). When the allocated rows are
+  // used up the datasets grow by a chunk first, or OutOfSpace is thrown (the step is not appended).
   void append(double time, const Eigen::VectorXd& q, const Eigen::VectorXd& qdot, const Vec3& base_position,
               const Vec3& base_rpy, const std::vector<Vec6>& contact_wrench, const StepStats& stats);
   void finish();                           // commit, shrink to the rows written, status "complete", close
   void fail(const std::string& reason);    // commit, shrink, status "failed: <reason>", close
+  void interrupt(const std::string& how);  // commit, shrink, status "interrupted <how>", close
   bool isOpen() const { return file_ >= 0; }
   long steps() const { return rows_; }     // steps appended so far
   long committedSteps() const { return rows_ - pending_; }  // steps on disk (the value of /steps)
-  long reservedRows() const { return extent_; }             // current extent of the per-step datasets
+  long allocatedRows() const { return extent_; }            // current extent of the per-step datasets
   const std::string& path() const { return path_; }
 
-  // The /status text of a trajectory file (InputError if it cannot be read).
+  // The /status text of a trajectory file (InputError if it cannot be read). Both readers open a
+  // file that ended and one whose writer was killed (see "Opening" above).
   static std::string readStatus(const std::string& path);
   // The number of complete steps of a trajectory file: /steps, or len(/time) for files without it.
   static long readSteps(const std::string& path);
@@ -137,7 +157,8 @@ class TrajectoryWriter {
   void stage(Column& c, const void* row);  // copy into the pending rows
   void writeRows(Column& c);              // write the pending rows in place
   void setExtent(long rows);              // every per-step dataset (metadata change)
-  void commitPending();  // [grow, flush,] rows, flush, /steps, flush
+  void grow();           // check the space, extend by chunk_rows, flush
+  void commitPending();  // rows, flush, /steps, flush
   void end(const std::string& status);  // commit, shrink, flush, status, flush, close
   void flushFile();
   void writeStatus(const std::string& status);
@@ -146,6 +167,7 @@ class TrajectoryWriter {
   [[noreturn]] void error(const std::string& what) const;
 
   std::string path_;
+  std::string folder_;   // absolute, for the free-space checks
   long long file_ = -1;  // hid_t
   int n_ = 0, C_ = 0;
   int flush_every_ = 1;
@@ -156,7 +178,8 @@ class TrajectoryWriter {
   long long status_dataset_ = -1, status_type_ = -1, steps_dataset_ = -1;
   long rows_ = 0;     // steps appended
   int pending_ = 0;   // appended steps not yet written
-  long extent_ = 0;   // rows of every per-step dataset (reserved)
+  long extent_ = 0;   // rows of every per-step dataset (allocated)
+  long long chunk_bytes_ = 0;  // file space of one chunk of every per-step dataset
   std::vector<double> wrench_buffer_;  // C × 6
   std::vector<char> status_buffer_;    // kStatusBytes
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include "multibody/kinematics.hpp"
@@ -50,19 +51,25 @@ struct Recursion {
   SimulationState& state;
   StepWorkspace& ws;
   StepStats& stats;
+  CancelFlag cancel;
+  bool halted = false;  // a failure that halving must not retry (Diverged, Cancelled)
+  bool closest_recorded = false;  // stats.energy holds a sub-step's balance
 
   bool step(double h) {
+    if (cancel && *cancel) return halt(StepStatus::Cancelled);
     targets.evaluate(state.time + h, ws.target);
     StepSolver& solver = ws.solver;
     const Eigen::VectorXd& w_start = options.warm_start_weights ? state.w : ws.zero_weights;
     // β carries over from accepted steps only: a failed attempt leaves it where it started.
     double beta = options.adapt_start_penalty ? std::max(state.beta, state.beta_start) : state.beta;
-    const StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, beta);
+    const StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, beta, cancel);
     stats.outer_iterations += a.outer_iterations;
     stats.g_evaluations += a.g_evaluations;
     stats.projections += a.projections;
     stats.newton_iterations += a.newton_iterations;
     stats.rejected += a.rejected;
+    if (a.status == StepStatus::Cancelled) return halt(StepStatus::Cancelled);
+    if (a.status == StepStatus::Converged && !energyHolds(h)) return halt(StepStatus::Diverged);
     if (a.status == StepStatus::Converged) {
       state.beta = beta;
       if (options.adapt_start_penalty && a.first_agreement >= 0) {
@@ -80,7 +87,43 @@ struct Recursion {
       stats.status = a.status;
       return false;
     }
-    return step(0.5 * h) && step(0.5 * h);
+    return step(0.5 * h) && !halted && step(0.5 * h);
+  }
+
+  bool halt(StepStatus status) {
+    stats.status = status;
+    halted = true;
+    return false;
+  }
+
+  // The energy balance of the converged attempt (solver/energy_balance.hpp); records the sub-step
+  // closest to the limit in stats.energy.
+  bool energyHolds(double h) {
+    if (!(options.energy_tolerance < std::numeric_limits<double>::infinity())) return true;
+    const Model& model = *system.model;
+    if (!(ws.state_energy_q == state.q && ws.state_energy_qd == state.qd && ws.state_energy_chart == state.base_chart)) {
+      ws.energy_data.base_chart = state.base_chart;
+      ws.state_energy = mechanicalEnergy(model, ws.energy_data, state.q, state.qd);
+      ws.state_energy_q = state.q;
+      ws.state_energy_qd = state.qd;
+      ws.state_energy_chart = state.base_chart;
+    }
+    const StepSolver& solver = ws.solver;
+    ws.energy_data.base_chart = state.base_chart;
+    const MechanicalEnergy after = mechanicalEnergy(model, ws.energy_data, solver.theta(), solver.velocity());
+    const EnergyBalance b = energyBalance(model, ws.state_energy, after, system.gains, ws.target, system.external_force,
+                                          state.q, solver.theta(), h, options.energy_tolerance);
+    if (!closest_recorded || b.excess() - b.tolerance > stats.energy.excess - stats.energy.tolerance ||
+        b.diverged()) {
+      stats.energy = {b.excess(), b.supplied, b.turnover, b.tolerance, b.free_fall};
+      closest_recorded = true;
+    }
+    if (b.diverged()) return false;
+    // After accept() the state is (θ, θ̇) in the same chart: its energy is `after`.
+    ws.state_energy = after;
+    ws.state_energy_q = solver.theta();
+    ws.state_energy_qd = solver.velocity();
+    return true;
   }
 
   void accept(double h) {
@@ -161,6 +204,8 @@ const char* toString(StepStatus status) {
     case StepStatus::MaxIterations: return "outer-iteration limit reached";
     case StepStatus::QpFailed: return "contact QP failed";
     case StepStatus::NonFinite: return "non-finite state";
+    case StepStatus::Diverged: return "diverged (the energy rose beyond what the controller can supply)";
+    case StepStatus::Cancelled: return "interrupted";
   }
   return "unknown";
 }
@@ -187,10 +232,10 @@ void validateSystem(const System& system, const IntegratorOptions& options) {
   if (!(options.min_substep > 0) || !(options.eta > 1) || !(options.eta_reject > 1) || !(options.eta_limited > 1) ||
       !(options.beta_min > 0) || !(options.beta_max >= options.beta_min) || !(options.tol_w > 0) ||
       !(options.epsilon > 0) || options.max_outer_iterations < 1 || options.projection_max_iterations < 1 ||
-      !(options.projection_tolerance > 0))
+      !(options.projection_tolerance > 0) || !(options.energy_tolerance >= 0))
     throw std::invalid_argument("integrator: options out of range (need min_substep, tol_w, epsilon, beta_min, "
-                                "projection_tolerance > 0, eta, eta_reject, eta_limited > 1, beta_max >= beta_min, "
-                                "iteration limits >= 1)");
+                                "projection_tolerance > 0, energy_tolerance >= 0, eta, eta_reject, eta_limited > 1, "
+                                "beta_max >= beta_min, iteration limits >= 1)");
 }
 
 SimulationState initialState(const System& system, const IntegratorOptions& options, const Eigen::VectorXd& q,
@@ -207,7 +252,7 @@ SimulationState initialState(const System& system, const IntegratorOptions& opti
 }
 
 StepWorkspace::StepWorkspace(const System& system, const IntegratorOptions& options)
-    : solver((validateSystem(system, options), system)) {
+    : solver((validateSystem(system, options), system)), energy_data(*system.model) {
   const int n = system.model->nq;
   contact_wrench.assign(system.contacts.size(), Vec6::Zero());
   impulse.assign(system.contacts.size(), Vec6::Zero());
@@ -217,10 +262,12 @@ StepWorkspace::StepWorkspace(const System& system, const IntegratorOptions& opti
   target.position.setZero(n);
   target.velocity.setZero(n);
   zero_weights.setZero(solver.residual().weightCount());
+  state_energy_q.setConstant(n, std::numeric_limits<double>::quiet_NaN());  // matches no state
+  state_energy_qd.setZero(n);
 }
 
 StepStats advance(const System& system, const IntegratorOptions& options, const PdTargetSource& targets,
-                  SimulationState& state, double dt, StepWorkspace& workspace) {
+                  SimulationState& state, double dt, StepWorkspace& workspace, CancelFlag cancel) {
   const auto start = std::chrono::steady_clock::now();
   StepStats stats;
   workspace.substep_sizes.clear();
@@ -228,7 +275,7 @@ StepStats advance(const System& system, const IntegratorOptions& options, const 
   for (Vec6& i : workspace.impulse) i.setZero();
   rebaseIfNeeded(*system.model, workspace.solver.residual().data, state);
   const double t0 = state.time;
-  Recursion recursion{system, options, targets, state, workspace, stats};
+  Recursion recursion{system, options, targets, state, workspace, stats, cancel};
   const bool ok = recursion.step(dt);
   stats.converged = ok;
   if (ok) stats.status = StepStatus::Converged;

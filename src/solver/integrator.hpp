@@ -7,11 +7,18 @@
 // Every sub-step is a complete step of its own size h (θ̇ = (θ − q_n)/h, PBD α = h/h_prev, PD target
 // at t + h), so a split trajectory is exactly the trajectory of the smaller steps. On failure the
 // state is left at the last accepted sub-step and the status says why. Nothing prints.
+//
+// A sub-step that converges is accepted only if its energy balance holds (solver/energy_balance.hpp);
+// one that fails it ends the step with StepStatus::Diverged, without halving: the check judges the
+// result, not the solver's progress, and an explicit method past its stability limit (ne-mdp, whose
+// blow-up the paper reports) must fail there rather than be rescued by smaller steps. A raised
+// CancelFlag ends the step with StepStatus::Cancelled at the next sub-step or outer iteration.
 #pragma once
 #include <cstdint>
 #include <vector>
 
 #include "control/pd_target_source.hpp"
+#include "solver/energy_balance.hpp"
 #include "solver/integrator_types.hpp"
 #include "solver/step_solver.hpp"
 
@@ -30,10 +37,17 @@ struct StepWorkspace {
   PdTarget target;                 // scratch for the PD target
   std::vector<Vec6> impulse;       // scratch
   Eigen::VectorXd zero_weights;    // cold start
+  // The energy check: its own kinematics workspace, and the mechanical energy of the state it was
+  // last computed for (q, q̇, chart), reused while the state is the same.
+  Data energy_data;
+  MechanicalEnergy state_energy;
+  Eigen::VectorXd state_energy_q, state_energy_qd;
+  Mat3 state_energy_chart = Mat3::Zero();
 };
 
 // Advances `state` by dt (or as far as it got, on failure). Returns the status and statistics.
+// `cancel` (may be null) is polled during the step.
 StepStats advance(const System& system, const IntegratorOptions& options, const PdTargetSource& targets,
-                  SimulationState& state, double dt, StepWorkspace& workspace);
+                  SimulationState& state, double dt, StepWorkspace& workspace, CancelFlag cancel = nullptr);
 
 }  // namespace nmdp

@@ -2,6 +2,7 @@
 // the system being simulated, the state carried from step to step, and per-step statistics.
 #pragma once
 #include <Eigen/Core>
+#include <csignal>
 #include <optional>
 #include <string>
 #include <vector>
@@ -110,7 +111,19 @@ struct IntegratorOptions {
   // RoboSimian walk finds other steps (2.19 m in 10 s, unevenly, against 2.89 m), and the paper's
   // dropped-term zeroth order stops short of sticking (a pushed block creeps 3e-4 m in 1 s). Kept on.
   bool warm_start_weights = true;
+  // The divergence check (solver/energy_balance.hpp): a converged (sub-)step whose energy rises by
+  // more than the PD targets, feed-forward and external forces can supply, plus this share of the
+  // step's energy turnover, fails with StepStatus::Diverged. Measured in
+  // docs/notes/2026-11-26-output-safety.md: the NMDP methods reach about a third of the allowed excess
+  // (quadruped jump, dt 0.05), ne-mdp past its stability limit exceeds it at its first unphysical
+  // step (Solo-12 trot, dt 0.02: twice over). Infinity disables the check.
+  double energy_tolerance = 0.5;
 };
+
+// A request to stop that the integrator polls between sub-steps and between the outer iterations
+// of a step (e.g. a flag set by a SIGINT handler): once it reads nonzero the step ends with
+// StepStatus::Cancelled, the state at its last accepted sub-step. Null: never.
+using CancelFlag = const volatile std::sig_atomic_t*;
 
 // The simulated system: robot, contacts, contact model, terrain and joint gains. Referenced, not
 // owned; everything must outlive the workspaces built from it.
@@ -151,8 +164,20 @@ enum class StepStatus {
   MaxIterations,       // outer-iteration cap reached
   QpFailed,            // the capped-simplex QP failed
   NonFinite,           // a NaN or infinity appeared (state, model output)
+  Diverged,            // converged, but the energy rose beyond what drives the robot can supply
+                       // (IntegratorOptions::energy_tolerance); StepStats::energy says by how much
+  Cancelled,           // the CancelFlag was raised; the step stopped where it was
 };
 const char* toString(StepStatus status);
+
+// The energy balance of a (sub-)step (solver/energy_balance.hpp), in J.
+struct StepEnergy {
+  double excess = 0.0;     // energy gain beyond what the PD targets, feed-forward and external forces supply
+  double supplied = 0.0;   // what they can supply
+  double turnover = 0.0;   // the sub-step's energy scale (EnergyBalance::turnover)
+  double tolerance = 0.0;  // the excess allowed: energy_tolerance · turnover + free_fall
+  double free_fall = 0.0;  // ½ m (‖g‖ h)² of the sub-step
+};
 
 struct StepStats {
   StepStatus status = StepStatus::Converged;
@@ -165,6 +190,9 @@ struct StepStats {
   int substeps = 0;          // accepted sub-steps (1 when no split happened)
   double min_substep = 0.0;  // smallest accepted sub-step (s)
   double wall_time = 0.0;    // s
+  // The sub-step closest to the divergence check's limit (largest excess − tolerance), or the one
+  // that failed it.
+  StepEnergy energy;
 };
 
 }  // namespace nmdp

@@ -87,9 +87,10 @@ Vec6 StepSolver::contactWrench(int c) const {
 }
 
 StepAttempt StepSolver::attempt(const System& system, const IntegratorOptions& options, const SimulationState& state,
-                                double h, const PdTarget& target, const Eigen::VectorXd& w_start, double& beta) {
+                                double h, const PdTarget& target, const Eigen::VectorXd& w_start, double& beta,
+                                CancelFlag cancel) {
   if (options.method == Method::NeMdp) return neMdp(system, state, h, target, w_start);
-  return pgm(system, options, state, h, target, w_start, beta);
+  return pgm(system, options, state, h, target, w_start, beta, cancel);
 }
 
 bool StepSolver::project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
@@ -173,7 +174,7 @@ bool StepSolver::project(const System& system, const IntegratorOptions& options,
 }
 
 StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& options, const SimulationState& state,
-                            double h, const PdTarget& target, const Eigen::VectorXd& w_start, double& beta) {
+                            double h, const PdTarget& target, const Eigen::VectorXd& w_start, double& beta, CancelFlag cancel) {
   StepAttempt stats;
   const ContactDerivative derivative =
       needsContactDerivative(options.method)                                    ? ContactDerivative::Model
@@ -214,6 +215,10 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
   for (;;) {
     if (stats.outer_iterations == options.max_outer_iterations) {
       stats.status = StepStatus::MaxIterations;
+      return stats;
+    }
+    if (cancel && *cancel) {
+      stats.status = StepStatus::Cancelled;
       return stats;
     }
     ++stats.outer_iterations;

@@ -52,9 +52,10 @@ class StepSolver {
 
   // Tries one step of size h from `state` with the PD target at state.time + h; w_start is the
   // initial weight vector (feasible; zeros for a cold start). `beta` is read and updated.
-  // On success theta(), velocity(), weights() and contactWrench(c) hold the solution.
+  // On success theta(), velocity(), weights() and contactWrench(c) hold the solution. A raised
+  // `cancel` (may be null) ends the outer iteration with StepStatus::Cancelled.
   StepAttempt attempt(const System& system, const IntegratorOptions& options, const SimulationState& state, double h,
-                      const PdTarget& target, const Eigen::VectorXd& w_start, double& beta);
+                      const PdTarget& target, const Eigen::VectorXd& w_start, double& beta, CancelFlag cancel = nullptr);
 
   const Eigen::VectorXd& theta() const { return theta_; }
   const Eigen::VectorXd& velocity() const { return velocity_; }
@@ -64,7 +65,7 @@ class StepSolver {
 
  private:
   StepAttempt pgm(const System& system, const IntegratorOptions& options, const SimulationState& state, double h,
-                  const PdTarget& target, const Eigen::VectorXd& w_start, double& beta);
+                  const PdTarget& target, const Eigen::VectorXd& w_start, double& beta, CancelFlag cancel);
   StepAttempt neMdp(const System& system, const SimulationState& state, double h, const PdTarget& target,
                     const Eigen::VectorXd& w_start);
   // Newton on G(·, w) = 0 from θ (in place), to the projection tolerance or to `loose` if that is
