@@ -105,9 +105,6 @@ double largestRatio(Method method, const PdTargetSource& target, QuadrupedOnPlan
       break;
     }
     worst = std::max(worst, s.energy.excess / s.energy.turnover);
-    if (getenv("DEBUG_EB") && s.energy.excess / s.energy.turnover > 0.01)
-      std::cout << "  step " << i + 1 << " t " << state.time << " excess " << s.energy.excess << " supplied " << s.energy.supplied
-                << " turnover " << s.energy.turnover << " substeps " << s.substeps << " z " << state.q[2] << "\n";
   }
   return worst;
 }
