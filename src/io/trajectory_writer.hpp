@@ -91,8 +91,8 @@ struct TrajectoryLayout {
   // A step reaches the disk when k = flush_every steps are pending or flush_interval seconds (wall
   // clock) passed since the last flush, whichever comes first: a kill loses at most k − 1 steps and
   // at most flush_interval seconds of work. The default 1 loses nothing that append() returned
-  // from; its cost, measured by the test AppendCost, is in docs/notes/2026-11-26-output-safety.md
-  // (about 30 µs per step for n = 18, C = 4, against a step of 0.5 ms or more).
+  // from, for about 30 µs per step (n = 18, C = 4; test AppendCost), against a step of 0.5 ms or
+  // more.
   int flush_every = 1;
   double flush_interval = 1.0;
   // Rows per HDF5 chunk, and the rows by which the per-step datasets grow when full.

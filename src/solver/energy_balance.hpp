@@ -12,8 +12,7 @@
 // |∂²U_g|·|Δq|²): backward Euler and the stable PD only dissipate, and maximal dissipation picks
 // contact forces that do no positive work (the origin of every wrench space is feasible). The PBD
 // form is the same in the limit. What remains is the discretization's second-order error, which
-// the tolerance covers (IntegratorOptions::energy_tolerance, measured in
-// docs/notes/2026-11-26-output-safety.md).
+// the tolerance covers (IntegratorOptions::energy_tolerance).
 // An explicit step (ne-mdp) has no such bound: past its stability limit its PD springs and the
 // mass-matrix update inject energy, by orders of magnitude at once.
 //

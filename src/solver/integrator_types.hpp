@@ -63,9 +63,8 @@ struct IntegratorOptions {
   // Trust-region relaxation: β ← max(β/η, β_min) after an accepted step. DESIGN.md's reference is
   // 1.5; 5 reaches the penalty a step's long first moves need in fewer directions (each a
   // factorization, a solve for D and a QP), and a move that overshoots is rejected at ×η_reject.
-  // Instructions per 200 steps against 1.5 (with η_limited = 3), callgrind, 2026-11-22: A1 trot
-  // (kd = 3, 50 ms) −14 %, RoboSimian walk −12.5 %, quadruped trot −2.5 %; 10 gained 1 % more on
-  // the first two and lost 4 % on the third. docs/INTEGRATOR.md.
+  // It takes about a seventh fewer instructions than 1.5 on the A1 and RoboSimian walks
+  // (docs/INTEGRATOR.md).
   double eta = 5.0;
   // β ← η_reject·β after a rejected one. DESIGN.md uses η both ways; the QP's model fails by far
   // when it fails (a 1.5× penalty barely shortens the step), so a sharp increase wastes fewer
@@ -113,10 +112,9 @@ struct IntegratorOptions {
   bool warm_start_weights = true;
   // The divergence check (solver/energy_balance.hpp): a converged (sub-)step whose energy rises by
   // more than the PD targets, feed-forward and external forces can supply, plus this share of the
-  // step's energy turnover, fails with StepStatus::Diverged. Measured in
-  // docs/notes/2026-11-26-output-safety.md: the NMDP methods reach about a third of the allowed excess
-  // (quadruped jump, dt 0.05), ne-mdp past its stability limit exceeds it at its first unphysical
-  // step (Solo-12 trot, dt 0.02: twice over). Infinity disables the check.
+  // step's energy turnover, fails with StepStatus::Diverged. 0.5 sits between the NMDP methods'
+  // largest excess (about a third of it) and ne-mdp's first unphysical step past its stability
+  // limit (about twice it). Infinity disables the check.
   double energy_tolerance = 0.5;
 };
 
