@@ -245,7 +245,7 @@ const std::vector<std::string> kVelocityKeys = {"base_linear", "base_angular"};
 const std::vector<std::string> kContactsKeys = {"points", "model"};
 const std::vector<std::string> kPointKeys = {"link", "offset", "radius", "name", "leg_axis"};
 const std::vector<std::string> kIntegratorKeys = {
-    "method", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "eta_limited",
+    "method", "order", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "eta_limited",
     "beta_min", "beta_max", "beta_initial", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance",
     "projection_max_iterations", "projection_backtracking", "warm_start_weights", "predict_first_iterate",
     "zeroth_order_jacobian"};
@@ -434,6 +434,14 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   const std::optional<Method> m = parseMethod(method);
   if (!m) (w / "method").fail("unknown method '" + method + "'" + suggestion(method, methodNames()) + "; valid: " + join(methodNames()));
   o.method = *m;
+  if (in.contains("order")) {
+    const json& v = in.at("order");
+    if (!v.is_number_integer() || (v != 1 && v != 2))
+      (w / "order").fail("expected 1 (backward Euler, the paper's) or 2 (BDF2), got " + jsonForMessage(v));
+    o.order = v.get<int>();
+  }
+  if (o.order == 2 && o.method == Method::NeMdp)
+    (w / "order").fail("ne-mdp is first order only; order 2 needs ne-pgm, ne-zopgm, pbd-pgm or pbd-zopgm");
   const std::string ke = readStr(in, "kinetic_energy", kineticEnergyName(o.kinetic_energy), w);
   const std::optional<KineticEnergyMeasure> k = parseKineticEnergy(ke);
   if (!k) (w / "kinetic_energy").fail("unknown value '" + ke + "'; valid: full-body, contact-points, full-body-pd");
@@ -470,6 +478,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   o.zeroth_order_jacobian = *z;
 
   out = {{"method", methodName(o.method)},
+         {"order", o.order},
          {"kinetic_energy", kineticEnergyName(o.kinetic_energy)},
          {"dt", c.dt},
          {"adaptive", o.adaptive},

@@ -26,6 +26,29 @@ void inertialTargets(const BodyTransforms& current, const BodyTransforms& previo
   for (size_t k = 0; k < current.size(); ++k) out[k] = (1.0 + alpha) * current[k] - alpha * previous[k];
 }
 
+void bodyTransformRates(const Model& model, Data& data, const Eigen::VectorXd& qd, BodyTransforms& out) {
+  out.resize(model.nq);
+  for (int k = 0; k < model.nq; ++k) {
+    const int parent = model.bodies[k].parent;
+    data.v[k] = data.S[k] * qd[k];
+    if (parent >= 0) data.v[k] += data.v[parent];
+    const Vec3 omega = data.v[k].head<3>();
+    out[k].leftCols<3>().noalias() = skew(omega) * data.R[k];
+    out[k].col(3) = data.v[k].tail<3>() + omega.cross(data.p[k]);
+  }
+}
+
+void secondOrderTargets(const BodyTransforms& current, const BodyTransforms& current_rates,
+                        const BodyTransforms& previous, const BodyTransforms& previous_rates, double extrapolation,
+                        double h_hat, BodyTransforms& kinetic, BodyTransforms& inertial) {
+  kinetic.resize(current.size());
+  inertial.resize(current.size());
+  for (size_t k = 0; k < current.size(); ++k) {
+    kinetic[k] = current[k] + extrapolation * (current[k] - previous[k]);
+    inertial[k] = kinetic[k] + h_hat * (current_rates[k] + extrapolation * (current_rates[k] - previous_rates[k]));
+  }
+}
+
 double transformEnergy(const Model& model, Data& data, const BodyTransforms& targets, double h, Eigen::VectorXd* grad,
                        Eigen::MatrixXd* hess) {
   const int n = model.nq;

@@ -42,6 +42,7 @@ void rebaseIfNeeded(const Model& model, Data& data, SimulationState& state) {
   rebaseFloatingChart(model, data, state.q, state.qd);
   state.base_chart = data.base_chart;
   state.q_prev.segment<3>(3) = xyzAngles(state.base_chart.transpose() * R_prev);
+  state.second_order_history = false;  // q̇_prev's base angle rates belong to the old chart
 }
 
 struct Recursion {
@@ -130,8 +131,10 @@ struct Recursion {
     const StepSolver& solver = ws.solver;
     state.q_prev.swap(state.q);
     state.q = solver.theta();
+    state.qd_prev.swap(state.qd);
     state.qd = solver.velocity();
     state.h_prev = h;
+    state.second_order_history = true;
     state.time += h;
     state.w = solver.weights();
     bool in_contact = false;
@@ -229,6 +232,12 @@ void validateSystem(const System& system, const IntegratorOptions& options) {
                                 " needs the contact model's derivative, and " + system.contact_model->describe() +
                                 " has none; use " + methodName(twin) + " (zeroth order) instead");
   }
+  if (options.order != 1 && options.order != 2)
+    throw std::invalid_argument("integrator: order " + std::to_string(options.order) +
+                                " is not available; use 1 (backward Euler) or 2 (BDF2)");
+  if (options.order == 2 && options.method == Method::NeMdp)
+    throw std::invalid_argument("integrator: ne-mdp is first order only (order 1); order 2 needs an NMDP method "
+                                "(ne-pgm, ne-zopgm, pbd-pgm, pbd-zopgm)");
   if (!(options.min_substep > 0) || !(options.eta > 1) || !(options.eta_reject > 1) || !(options.eta_limited > 1) ||
       !(options.beta_min > 0) || !(options.beta_max >= options.beta_min) || !(options.tol_w > 0) ||
       !(options.epsilon > 0) || options.max_outer_iterations < 1 || options.projection_max_iterations < 1 ||
@@ -244,6 +253,7 @@ SimulationState initialState(const System& system, const IntegratorOptions& opti
   s.q = q;
   s.qd = qd;
   s.q_prev = q - h * qd;
+  s.qd_prev = qd;
   s.h_prev = h;
   s.beta = s.beta_start = options.beta_initial;
   const int K = (system.contacts.empty() || !system.contact_model) ? 0 : system.contact_model->vertexCount();

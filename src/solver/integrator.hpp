@@ -4,8 +4,8 @@
 //             else if h/2 < min_substep → fail
 //             else Step(h/2); Step(h/2)
 //
-// Every sub-step is a complete step of its own size h (θ̇ = (θ − q_n)/h, PBD α = h/h_prev, PD target
-// at t + h), so a split trajectory is exactly the trajectory of the smaller steps. On failure the
+// Every sub-step is a complete step of its own size h (θ̇ = (θ − q_n)/h, PBD α = h/h_prev, BDF2
+// ω = h/h_prev, PD target at t + h), so a split trajectory is exactly the trajectory of the smaller steps. On failure the
 // state is left at the last accepted sub-step and the status says why. Nothing prints.
 //
 // A sub-step that converges is accepted only if its energy balance holds (solver/energy_balance.hpp);

@@ -54,6 +54,12 @@ enum class ContactDerivative { Model, FiniteDifference, Dropped };
 
 struct IntegratorOptions {
   Method method = Method::NePgm;
+  // The order of the time discretization of the NMDP methods (solver/bdf2.hpp): 1 is the paper's
+  // backward Euler; 2 is variable-step BDF2 (its NE form is backward Euler's residual from the
+  // extrapolated (q̂, v̂) with step ĥ; its PBD form applies BDF2 to each body's transform). A step
+  // without a BDF2 history (the first after initialState or a chart rebase) or after a sub-step
+  // shorter than h/(1+√2) is a backward-Euler step from (q_n, q̇_n). ne-mdp is first order only.
+  int order = 1;
   KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBody;
   bool adaptive = true;          // Algorithm 2: halve a failed step down to min_substep
   double min_substep = 1e-5;     // s
@@ -143,15 +149,21 @@ void validateSystem(const System& system, const IntegratorOptions& options);
 struct SimulationState {
   double time = 0.0;
   Eigen::VectorXd q, qd;   // configuration and velocity at `time`, in the chart base_chart
-  Eigen::VectorXd q_prev;  // configuration one (sub-)step earlier (PBD), same chart
+  Eigen::VectorXd q_prev;  // configuration one (sub-)step earlier (PBD, BDF2), same chart
+  Eigen::VectorXd qd_prev;  // velocity one (sub-)step earlier (BDF2), same chart
   double h_prev = 0.0;     // size of that (sub-)step
+  // Whether (q_prev, qd_prev, h_prev) is an accepted (sub-)step in the current chart that a
+  // second-order step may build on: false at the start and after a chart rebase (the base angle
+  // rates are chart-dependent), true after every accepted sub-step.
+  bool second_order_history = false;
   Mat3 base_chart = Mat3::Identity();  // floating base reference orientation (Data::base_chart)
   double beta = 1e-4;      // trust-region penalty carried over between steps (DESIGN.md 3)
   double beta_start = 1e-4;  // the least β the next step starts from (IntegratorOptions::adapt_start_penalty)
   Eigen::VectorXd w;       // contact weights of the last sub-step (Σ K_c), the warm start
 };
 
-// Starts at (q, q̇) at time 0; q_prev = q − h q̇ so that PBD starts with the same velocity.
+// Starts at (q, q̇) at time 0; q_prev = q − h q̇ so that PBD starts with the same velocity;
+// qd_prev = q̇ and no second-order history (the first step is backward Euler).
 SimulationState initialState(const System& system, const IntegratorOptions& options, const Eigen::VectorXd& q,
                              const Eigen::VectorXd& qd, double h);
 

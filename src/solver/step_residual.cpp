@@ -1,5 +1,6 @@
 #include "solver/step_residual.hpp"
 
+#include "multibody/crba.hpp"
 #include "multibody/kinematics.hpp"
 #include "solver/ne_residual.hpp"
 
@@ -17,6 +18,7 @@ inline Vec6 combine(const Mat6X& M, const double* w) {
 
 StepResidual::StepResidual(const System& system)
     : data(*system.model),
+      mass_llt_(system.model->nq),
       data_prev_(*system.model),
       finite_difference_(static_cast<int>(system.contacts.size()),
                          system.contact_model ? system.contact_model->vertexCount() : 0) {
@@ -35,6 +37,7 @@ StepResidual::StepResidual(const System& system)
   for (ContactWrenches& cw : wrenches) cw.resize(K_vertices_);
   jacobians.assign(C, Mat6X::Zero(6, n_));
   contact_points_n_.assign(C, Vec3::Zero());
+  contact_points_prev_.assign(C, Vec3::Zero());
   for (const ContactPoint& cp : system.contacts) {
     const int body = model.links[cp.link].body;
     contact_bodies_.push_back(body);
@@ -52,37 +55,101 @@ StepResidual::StepResidual(const System& system)
   hess_work_.setZero(n_, n_);
   chain_jacobian_transpose_.setZero(n_, 6);
   chain_column_.setZero(n_);
+  kinetic_targets_.resize(n_);
   transforms_n_.resize(n_);
   transforms_prev_.resize(n_);
   inertial_targets_.resize(n_);
+  rates_n_.resize(n_);
+  rates_prev_.resize(n_);
   armature_target_.setZero(n_);
+}
+
+void StepResidual::prepareStep(const System& system, Form form, double h, const PdTarget& target,
+                               const Mat3& base_chart, KineticEnergyMeasure kinetic_energy) {
+  form_ = form;
+  kinetic_energy_ = kinetic_energy;
+  h_ = h;
+  target_.position = target.position;
+  target_.velocity = target.velocity;
+  data.base_chart = base_chart;
+  data_prev_.base_chart = base_chart;
+  pdPotentialHessianDiagonal(system.gains, h, pd_hessian_);
 }
 
 void StepResidual::prepare(const System& system, Form form, double h, const Eigen::VectorXd& q_n,
                            const Eigen::VectorXd& qd_n, const Eigen::VectorXd& q_prev, double h_prev,
                            const PdTarget& target, const Mat3& base_chart, KineticEnergyMeasure kinetic_energy) {
   const Model& model = *system.model;
-  form_ = form;
-  kinetic_energy_ = kinetic_energy;
-  h_ = h;
+  prepareStep(system, form, h, target, base_chart, kinetic_energy);
+  second_order_ = false;
   q_n_ = q_n;
   qd_n_ = qd_n;
-  target_.position = target.position;
-  target_.velocity = target.velocity;
-  data.base_chart = base_chart;
-  pdPotentialHessianDiagonal(system.gains, h, pd_hessian_);
   if (form != Form::PositionBased) return;
   const double alpha = h / h_prev;
-  data_prev_.base_chart = base_chart;
   forwardKinematics(model, data_prev_, q_n);
-  bodyTransforms(model, data_prev_, transforms_n_);
+  bodyTransforms(model, data_prev_, kinetic_targets_);
   if (kinetic_energy == KineticEnergyMeasure::ContactPoints)  // PBD's u_c needs p_c(q_n)
     for (size_t c = 0; c < system.contacts.size(); ++c)
       contact_points_n_[c] = linkPoint(model, data_prev_, system.contacts[c].link, system.contacts[c].offset);
   forwardKinematics(model, data_prev_, q_prev);
   bodyTransforms(model, data_prev_, transforms_prev_);
-  inertialTargets(transforms_n_, transforms_prev_, alpha, inertial_targets_);
+  inertialTargets(kinetic_targets_, transforms_prev_, alpha, inertial_targets_);
   armature_target_ = (1.0 + alpha) * q_n - alpha * q_prev;
+}
+
+void StepResidual::prepareSecondOrder(const System& system, Form form, const Bdf2Coefficients& bdf2,
+                                      const Eigen::VectorXd& q_n, const Eigen::VectorXd& qd_n,
+                                      const Eigen::VectorXd& q_prev, const Eigen::VectorXd& qd_prev,
+                                      const PdTarget& target, const Mat3& base_chart,
+                                      KineticEnergyMeasure kinetic_energy) {
+  const Model& model = *system.model;
+  const double c = bdf2.extrapolation;
+  prepareStep(system, form, bdf2.h_hat, target, base_chart, kinetic_energy);
+  second_order_ = true;
+  q_n_ = q_n + c * (q_n - q_prev);
+  qd_n_ = qd_n + c * (qd_n - qd_prev);
+  if (form != Form::PositionBased) return;
+  // BDF2 on each body's transform (not on q, whose Coriolis part would keep an O(h) error).
+  const bool points = kinetic_energy == KineticEnergyMeasure::ContactPoints;
+  forwardKinematics(model, data_prev_, q_n);
+  bodyTransforms(model, data_prev_, transforms_n_);
+  bodyTransformRates(model, data_prev_, qd_n, rates_n_);
+  if (points)
+    for (size_t k = 0; k < system.contacts.size(); ++k)
+      contact_points_n_[k] = linkPoint(model, data_prev_, system.contacts[k].link, system.contacts[k].offset);
+  forwardKinematics(model, data_prev_, q_prev);
+  bodyTransforms(model, data_prev_, transforms_prev_);
+  bodyTransformRates(model, data_prev_, qd_prev, rates_prev_);
+  if (points)
+    for (size_t k = 0; k < system.contacts.size(); ++k) {
+      contact_points_prev_[k] = linkPoint(model, data_prev_, system.contacts[k].link, system.contacts[k].offset);
+      contact_points_n_[k] += c * (contact_points_n_[k] - contact_points_prev_[k]);
+    }
+  secondOrderTargets(transforms_n_, rates_n_, transforms_prev_, rates_prev_, c, bdf2.h_hat, kinetic_targets_,
+                     inertial_targets_);
+  armature_target_ = q_n_ + bdf2.h_hat * qd_n_;
+}
+
+void StepResidual::velocity(const System& system, const Eigen::VectorXd& theta, Eigen::VectorXd& out) {
+  if (!second_order_ || form_ != Form::PositionBased) {
+    out = (theta - q_n_) / h_;
+    return;
+  }
+  // PBD at second order: the bodies' BDF2 rates Ṫ_k = (T_k(θ) − T̂_k)/ĥ (and the armature's
+  // (θ − q̂)/ĥ) are not the rates of any joint velocity; the next step's V̂ is built from the joint
+  // velocity whose rates are closest in the bodies' mass metric, q̇ = H⁻¹ Σ_k J_kᵀ M̄_k Ṫ_k = ĥ H⁻¹ ∇K_body.
+  // Their difference is then orthogonal to every J_kᵀ M̄_k, so the next step's generalized inertial
+  // force misses only O(h²); the joint-space (θ − q̂)/ĥ misses Σ J_kᵀ M̄_k (T⃛_k − J_k q⃛)·O(h),
+  // first order.
+  const Model& model = *system.model;
+  forwardKinematics(model, data, theta);
+  transformEnergy(model, data, kinetic_targets_, h_, &out, nullptr);
+  const double inv_h2 = 1.0 / (h_ * h_);
+  for (int j = 0; j < n_; ++j) out[j] += model.bodies[j].armature * (theta[j] - q_n_[j]) * inv_h2;
+  crbaFromKinematics(model, data);
+  mass_llt_.compute(data.H);
+  mass_llt_.solveInPlace(out);
+  out *= h_;
 }
 
 void StepResidual::evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
@@ -157,8 +224,8 @@ void StepResidual::positionBasedTerms(const System& system, const Eigen::VectorX
   G += work_;
   if (system.external_force.size() != 0) G -= system.external_force;
   if (derivatives) dG_dtheta.diagonal() += pd_hessian_;
-  K = derivatives ? transformEnergy(model, data, transforms_n_, h_, &grad_K, &hess_K)
-                  : transformEnergy(model, data, transforms_n_, h_, nullptr, nullptr);
+  K = derivatives ? transformEnergy(model, data, kinetic_targets_, h_, &grad_K, &hess_K)
+                  : transformEnergy(model, data, kinetic_targets_, h_, nullptr, nullptr);
   K += pdMetricEnergy(theta);
   if (derivatives && kinetic_energy_ == KineticEnergyMeasure::FullBodyPd) {
     grad_K.array() += pd_hessian_.array() * (theta - q_n_).array();

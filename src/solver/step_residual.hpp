@@ -18,11 +18,13 @@
 // change of J_c(θ)θ̇ with θ), and the Gauss–Newton ∇²K = Σ J_cᵀ J_c / h² (linear rows of J_c). Armature (rotor inertia) enters the PBD energies as ½ a_j (Δθ_j)²/h² so
 // both forms integrate the same H.
 #pragma once
+#include <Eigen/Cholesky>
 #include <vector>
 
 #include "contact_models/finite_difference_derivative.hpp"
 #include "multibody/data.hpp"
 #include "multibody/pbd_terms.hpp"
+#include "solver/bdf2.hpp"
 #include "solver/integrator_types.hpp"
 
 namespace nmdp {
@@ -33,11 +35,26 @@ class StepResidual {
  public:
   explicit StepResidual(const System& system);
 
-  // Fixes the data of one attempt of size h from (q_n, q̇_n) (NE) or (q_n, q_prev, h_prev) (PBD),
-  // with the PD target at the end of the step and the floating-base chart of the state.
+  // Fixes the data of one backward-Euler attempt of size h from (q_n, q̇_n) (NE) or
+  // (q_n, q_prev, h_prev) (PBD), with the PD target at the end of the step and the floating-base
+  // chart of the state.
   void prepare(const System& system, Form form, double h, const Eigen::VectorXd& q_n, const Eigen::VectorXd& qd_n,
                const Eigen::VectorXd& q_prev, double h_prev, const PdTarget& target, const Mat3& base_chart,
                KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBody);
+
+  // The same for an attempt of the second-order mode (solver/bdf2.hpp) from (q_n, q̇_n) after the
+  // (sub-)step (q_prev, q̇_prev), with the coefficients ĥ, c of that step (BDF2's, or backward
+  // Euler's {h, 0}). NE: the backward-Euler residual from (q̂, v̂) with step ĥ. PBD: the inertial
+  // target T̂_k + ĥ V̂_k of each body, K against T̂_k over ĥ, the armature and PD terms from
+  // (q̂, v̂, ĥ). h() is then ĥ, the step the residual's θ̇ and θ̈ divide by.
+  void prepareSecondOrder(const System& system, Form form, const Bdf2Coefficients& coefficients,
+                          const Eigen::VectorXd& q_n, const Eigen::VectorXd& qd_n, const Eigen::VectorXd& q_prev,
+                          const Eigen::VectorXd& qd_prev, const PdTarget& target, const Mat3& base_chart,
+                          KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBody);
+
+  // The velocity the discretization gives the new state θ: (θ − q_n)/h, or at second order (θ − q̂)/ĥ
+  // (NE) and ĥ H(θ)⁻¹ ∇K_body(θ) (PBD, see below). Leaves the kinematics of θ in `data`.
+  void velocity(const System& system, const Eigen::VectorXd& theta, Eigen::VectorXd& out);
 
   // G, ∂G/∂θ (its contact term as `derivative` says), B = Σ J_cᵀ V_c = −∂G/∂w, K, ∇K, ∇²K at (θ, w).
   void evaluate(const System& system, const Eigen::VectorXd& theta, const Eigen::VectorXd& w,
@@ -57,7 +74,7 @@ class StepResidual {
   void evaluateContacts(const System& system, const Eigen::VectorXd& q);
 
   Form form() const { return form_; }
-  double h() const { return h_; }
+  double h() const { return h_; }  // the step θ̇ = (θ − q_n)/h divides by (ĥ at second order)
   int weightCount() const { return m_; }
 
   // Outputs of evaluate().
@@ -80,12 +97,16 @@ class StepResidual {
   void contactGeometry(const System& system, ContactDerivative derivative);  // J_c, V_c, dV/dξ, B at the frames
   void frameGeometry(const System& system);  // the contact frames
   void addContactForces(const System& system, const Eigen::VectorXd& w);  // G −= Σ J_cᵀ V_c w_c
+  // What both orders fix: the form, K, the effective step, the target, the chart and the PD stiffness.
+  void prepareStep(const System& system, Form form, double h, const PdTarget& target, const Mat3& base_chart,
+                   KineticEnergyMeasure kinetic_energy);
   // PBD: kinematics at θ, G and K without the contacts (and ∂G/∂θ, ∇K, ∇²K with derivatives).
   void positionBasedTerms(const System& system, const Eigen::VectorXd& theta, bool derivatives);
 
   // NE: K = ½ Σ_k v_kᵀ I_k v_k + ½ Σ_j a_j θ̇_j² from RNEA's world velocities (= ½ θ̇ᵀ H θ̇).
   double bodyKineticEnergy(const Model& model) const;
-  // Full-body-pd: ½ Σ_j (k_p,j + k_d,j/h)(θ_j − q_n,j)², the implicit PD's share of ∂G/∂θ as a metric.
+  // Full-body-pd: ½ Σ_j (k_p,j + k_d,j/h)(θ_j − q_n,j)², the implicit PD's share of ∂G/∂θ as a metric
+  // (q̂ and ĥ at second order).
   double pdMetricEnergy(const Eigen::VectorXd& theta) const;
   void contactPointEnergy(const Model& model, bool derivatives);
   std::vector<int> contact_bodies_;  // body of each contact (−1: welded to the world)
@@ -93,11 +114,14 @@ class StepResidual {
   void addKineticEnergyConfigurationGradient(const Model& model);  // += ∂T/∂q (NE)
 
   Form form_ = Form::NewtonEuler;
+  bool second_order_ = false;  // prepared by prepareSecondOrder
+  Eigen::LLT<Eigen::MatrixXd> mass_llt_;  // H(θ), for the PBD velocity at second order
   KineticEnergyMeasure kinetic_energy_ = KineticEnergyMeasure::FullBody;
-  std::vector<Vec3> contact_points_n_;  // sphere centres at q_n
-  double h_ = 0.0;
+  std::vector<Vec3> contact_points_n_;  // sphere centres at q_n (PBD's contact-point K; extrapolated at order 2)
+  std::vector<Vec3> contact_points_prev_;  // at q_prev (order 2)
+  double h_ = 0.0;  // ĥ at second order
   int n_ = 0, m_ = 0, K_vertices_ = 0;
-  Eigen::VectorXd q_n_, qd_n_;
+  Eigen::VectorXd q_n_, qd_n_;  // the step's start (q̂, v̂ at second order)
   PdTarget target_;
   Eigen::VectorXd pd_hessian_, work_, work2_;
   Eigen::MatrixXd hess_work_;
@@ -105,7 +129,8 @@ class StepResidual {
   // column of J_cᵀ ∂(V_c w_c)/∂θ.
   Eigen::Matrix<double, Eigen::Dynamic, 6> chain_jacobian_transpose_;
   Eigen::VectorXd chain_column_;
-  BodyTransforms transforms_n_, transforms_prev_, inertial_targets_;
+  // PBD: K's targets (T(q_n), or T̂ at order 2) and I's; at order 2 also T and Ṫ at q_n and q_prev.
+  BodyTransforms kinetic_targets_, transforms_n_, transforms_prev_, inertial_targets_, rates_n_, rates_prev_;
   Eigen::VectorXd armature_target_;
   Data data_prev_;  // kinematics of q_n and q_prev (PBD targets)
   FiniteDifferenceDerivative finite_difference_;

@@ -181,8 +181,12 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
       : options.zeroth_order_jacobian == ZerothOrderJacobian::FiniteDifference ? ContactDerivative::FiniteDifference
                                                                                 : ContactDerivative::Dropped;
   const Form form = isPositionBased(options.method) ? Form::PositionBased : Form::NewtonEuler;
-  residual_.prepare(system, form, h, state.q, state.qd, state.q_prev, state.h_prev, target, state.base_chart,
-                    options.kinetic_energy);
+  if (options.order == 2)
+    residual_.prepareSecondOrder(system, form, secondOrderStepCoefficients(state, h), state.q, state.qd, state.q_prev,
+                                 state.qd_prev, target, state.base_chart, options.kinetic_energy);
+  else
+    residual_.prepare(system, form, h, state.q, state.qd, state.q_prev, state.h_prev, target, state.base_chart,
+                      options.kinetic_energy);
   theta_ = state.q;
   if (options.predict_first_iterate) theta_.noalias() += h * state.qd;
   w_ = w_start;
@@ -334,8 +338,8 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
     residual_.evaluateValue(system, theta_, w_);
     ++stats.g_evaluations;
   }
-  velocity_ = (theta_ - state.q) / h;
-  if (!allFinite(theta_)) stats.status = StepStatus::NonFinite;
+  residual_.velocity(system, theta_, velocity_);
+  if (!allFinite(theta_) || !allFinite(velocity_)) stats.status = StepStatus::NonFinite;
   return stats;
 }
 
