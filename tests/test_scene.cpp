@@ -285,6 +285,29 @@ TEST(Scene, EveryBadInputHasAnActionableMessage) {
   }
 }
 
+// integrator.order: 1 (default) or 2, resolved into the dump; anything else, and ne-mdp at order 2,
+// is one message naming the file and the key.
+TEST(Scene, IntegratorOrderParsesResolvesAndRefusesBadValues) {
+  SceneFixture f;
+  EXPECT_EQ(f.parse().integrator.order, 1);
+  EXPECT_EQ(f.parse().resolved.at("integrator").at("order"), 1);
+  json s = f.scene;
+  s["integrator"]["order"] = 2;
+  const SceneConfig c = f.parse(s);
+  EXPECT_EQ(c.integrator.order, 2);
+  EXPECT_EQ(c.resolved.at("integrator").at("order"), 2);
+  EXPECT_EQ(f.parse(c.resolved).integrator.order, 2);  // the dump parses back
+  for (const json& bad : {json(3), json(0), json(1.5), json("2"), json(nullptr)}) {
+    s["integrator"]["order"] = bad;
+    EXPECT_TRUE(containsAll(inputErrorMessage([&] { f.parse(s); }),
+                            {"scene.json: integrator.order: expected 1 (backward Euler, the paper's) or 2 (BDF2), got"}))
+        << bad.dump();
+  }
+  s["integrator"]["order"] = 2;
+  s["integrator"]["method"] = "ne-mdp";
+  EXPECT_TRUE(containsAll(inputErrorMessage([&] { f.parse(s); }), {"integrator.order: ne-mdp is first order only"}));
+}
+
 TEST(Scene, LoadErrorsNameTheFileAndPosition) {
   TempDir dir;
   const std::string bad = dir.write("bad.json", "{\n  \"robot\": {\"urdf\": \"x.urdf\",}\n}\n");
