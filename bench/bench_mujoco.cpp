@@ -16,8 +16,14 @@
 // our integrator evaluates the stable PD at the new state (q*, q̇* at t + h). A second MuJoCo
 // configuration, "MuJoCo, implicit kd", is what a MuJoCo user would set up for stiff damped joints:
 // the kd (−q̇) part as the joints' dof_damping, which MuJoCo's Euler integrator integrates
-// implicitly, and only kp (q* − q) + kd q̇* + τ_ff in qfrc_applied. The speed goal is judged against
-// the faster of the two configurations' largest dt within 5 % of their own 1 ms run.
+// implicitly, and only kp (q* − q) + kd q̇* + τ_ff in qfrc_applied.
+//
+// Speed at equal accuracy (bench/equal_accuracy.hpp): for each engine the cheapest configuration
+// (family and dt) whose run stays within 5 % of its family's finest run, and the ratio of their wall
+// times per simulated second. Our families are ne-pgm and pbd-pgm at the scene's other integrator
+// settings, plus one per --ours-config (a list of integrator.* settings, e.g.
+// "integrator.method=ne-pgm;integrator.order=2"), so that later integrator features are measured
+// without changing this file.
 //
 // Two scenarios in one run: the scene as it is, and the same with controller.kd raised
 // (--damped-kd, default 3), because with the scene's kd neither engine's fine-dt run keeps trotting.
@@ -30,10 +36,11 @@
 // docs/results/mujoco_a1.md in the source tree).
 //
 // Usage: bench_mujoco [--repeats N] [--duration S] [--out FILE] [--scene SCENE.json] [--set key.path=value]...
+//                     [--ours-config "integrator.key=value;..."]...
 //                     [--mujoco-dts S,..] [--ours-dts S,..] [--mujoco-extra-dts S,..] [--ours-extra-dts S,..]
+// (the extra dts are run once: the finest run of each family, never a candidate for the cheapest);
 //                     [--damped-kd KD] [--mujoco-timeconst T] [--mujoco-elliptic 0|1]
-// (the extra dts are convergence checks, run once, never the reference; the last two are diagnostics
-// that leave MuJoCo's contact defaults, flagged in the output).
+// (the last two are diagnostics that leave MuJoCo's contact defaults, flagged in the output).
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -43,14 +50,18 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unistd.h>
 #include <vector>
 
 #include "bench_clock.hpp"
+#include "equal_accuracy.hpp"
 #include "../tests/mujoco_urdf.hpp"
 #include "contact_models/coulomb_model.hpp"
 #include "io/json_params.hpp"
@@ -90,6 +101,8 @@ struct Run {
   double wall = 0, cpu = 0;  // whole run, s
   double forward = 0;    // torso x travelled
   double lateral = 0;    // torso y at the end
+  double yaw = 0;        // heading at the end from the start, unwrapped
+  double yaw_raw = 0;    // the last step's yaw in (−π, π], to unwrap the next
   double z_min = 1e9, z_max = -1e9, tilt_max = 0;
   long substeps = 0, outer = 0, steps = 0;  // ours: accepted sub-steps and outer iterations, steps taken
   std::vector<Vec3> position;  // torso position at k dt, k = 0..steps done
@@ -108,6 +121,8 @@ bool observe(Run& r, const Bounds& b, double t, const Vec3& p, const Vec3& rpy, 
   r.tilt_max = std::max({r.tilt_max, std::abs(rpy.x()), std::abs(rpy.y())});
   r.forward = p.x() - p0.x();
   r.lateral = p.y() - p0.y();
+  if (r.position.size() > 1) r.yaw += std::remainder(rpy.z() - r.yaw_raw, 2 * M_PI);
+  r.yaw_raw = rpy.z();
   char buf[96];
   if (p.z() < b.z_low || p.z() > b.z_high) {
     std::snprintf(buf, sizeof buf, "torso height %.3f m at t = %.3f s", p.z(), t);
@@ -134,9 +149,9 @@ struct Ours {
   Eigen::VectorXd q0, qd0;
 };
 
-Run runOurs(const Ours& o, Method method, double dt, double duration, const Bounds& bounds) {
-  IntegratorOptions options = o.config.integrator;
-  options.method = method;
+// One run with the configuration's own integrator settings (the scene's, with its --ours-config).
+Run runOurs(const Ours& o, double dt, double duration, const Bounds& bounds) {
+  const IntegratorOptions& options = o.config.integrator;
   StepWorkspace ws(o.system, options);
   SimulationState state = initialState(o.system, options, o.q0, o.qd0, dt);
   Data pose_data(o.model);
@@ -376,15 +391,19 @@ Run runMujoco(const Ours& o, Mujoco& mj, double dt, double duration, const Bound
 // ---- comparison -----------------------------------------------------------------------------------
 
 struct Row {
-  std::string engine;  // kMujoco, kMujocoImplicitKd, "ne-pgm", "pbd-pgm"
+  std::string family;  // kMujoco, kMujocoImplicitKd, or one of our configurations ("ne-pgm", ...)
+  const Ours* ours = nullptr;  // our configuration's system, for our rows
   double dt = 0;
   std::vector<Run> runs;  // repeats
   // filled in later
   double wall_per_s = NAN, cpu_per_s = NAN;
   double rms = NAN;  // m
   bool has_rms = false;
-  bool extra = false;  // a convergence check: one run, never the reference
+  bool within = false;  // within 5 % of the family's finest run
+  bool extra = false;   // run once: a convergence check or the finest run, never a candidate for the cheapest
 };
+
+bench::Accuracy accuracyOf(const Run& r) { return {r.stable, std::hypot(r.forward, r.lateral), r.yaw}; }
 
 std::vector<double> parseList(const std::string& text) {  // "0.001,0.002"
   std::vector<double> out;
@@ -392,14 +411,6 @@ std::vector<double> parseList(const std::string& text) {  // "0.001,0.002"
   std::string item;
   while (std::getline(ss, item, ',')) out.push_back(std::stod(item));
   return out;
-}
-
-Row makeRow(const std::string& engine, double dt, bool extra = false) {
-  Row row;
-  row.extra = extra;
-  row.engine = engine;
-  row.dt = dt;
-  return row;
 }
 
 // RMS of ‖p(t) − p_ref(t)‖ over the coarser run's grid (one dt must be a multiple of the other, so
@@ -435,11 +446,14 @@ std::string fmtDt(double dt) {
 struct Args {
   int repeats = 3;
   double duration = 10.0;
-  // Convergence checks: run once each, shown, never the reference.
+  // Run once each, shown; the finest dt of a family is its reference.
   std::vector<double> mujoco_extra_dts = {0.0005}, ours_extra_dts = {0.001};
   std::string out_path = std::string(NMDP_SOURCE_DIR) + "/docs/results/mujoco_a1.md";
   std::string scene_path = std::string(NMDP_SOURCE_DIR) + "/models/scenes/a1_trot_flat.json";
   std::vector<std::string> overrides;  // --set key.path=value, as for nmdp simulate
+  // Our configurations: a label and its integrator.* settings (--ours-config adds one each).
+  std::vector<std::pair<std::string, std::vector<std::string>>> ours_configs = {
+      {"ne-pgm", {"integrator.method=ne-pgm"}}, {"pbd-pgm", {"integrator.method=pbd-pgm"}}};
   std::vector<double> mujoco_dts = {0.001, 0.002, 0.005, 0.01, 0.02, 0.05};
   std::vector<double> ours_dts = {0.005, 0.01, 0.02, 0.03, 0.04, 0.05};
   double damped_kd = 3.0;  // the second scenario's controller.kd (0: no second scenario)
@@ -447,33 +461,59 @@ struct Args {
   bool mujoco_elliptic = false;  // diagnostics: elliptic friction cone
 };
 
+// "integrator.method=ne-pgm;integrator.order=2" → its settings; only integrator.* keys, so that every
+// configuration runs the robot, gains and targets MuJoCo runs.
+std::vector<std::string> parseConfiguration(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ';'))
+    if (!item.empty()) {
+      if (item.rfind("integrator.", 0) != 0 || item.find('=') == std::string::npos)
+        throw std::runtime_error("--ours-config " + text + ": '" + item + "' is not an integrator.KEY=VALUE setting");
+      out.push_back(item);
+    }
+  if (out.empty()) throw std::runtime_error("--ours-config " + text + ": no setting");
+  return out;
+}
+
+// Ours, built as `nmdp simulate` builds the scene with these --set overrides.
+std::unique_ptr<Ours> buildOurs(const std::string& scene_path, const std::vector<std::string>& overrides) {
+  auto o = std::make_unique<Ours>();
+  nlohmann::json scene_json = loadSceneJson(scene_path);
+  for (const std::string& assignment : overrides) applyOverride(scene_json, assignment, scene_path + ": --set");
+  o->config = parseScene(scene_json, scene_path);
+  o->model = loadUrdf(o->config.urdf, urdfOptionsFor(o->config));
+  validateAgainstModel(o->config, o->model);
+  if (o->config.contact_model.value("type", "") != "coulomb") throw std::runtime_error("the scene's contact model must be coulomb");
+  o->contact_model = makeCoulombModel(o->config.contact_model, ConfigContext{scene_path + ": contacts.model", o->config.base_dir});
+  o->terrain = makeTerrain(o->config.terrain, ConfigContext{scene_path + ": terrain", o->config.base_dir});
+  o->system.model = &o->model;
+  o->system.contacts = contactPointsFor(o->config, o->model);
+  o->system.contact_model = o->contact_model.get();
+  o->system.terrain = o->terrain.get();
+  o->system.gains = gainsFor(o->config, o->model);
+  o->target = gaitFor(o->config, o->model);
+  o->q0 = initialConfiguration(o->config, o->model);
+  o->qd0 = initialVelocity(o->config, o->model);
+  validateSystem(o->system, o->config.integrator);
+  return o;
+}
+
 // One scenario: every run, the table and the ratios, as markdown.
 std::string scenario(const Args& a, const std::vector<std::string>& overrides, const std::string& title) {
   const std::string& scene_path = a.scene_path;
   const int repeats = a.repeats;
   const double duration = a.duration;
-  const std::vector<double>&mujoco_dts = a.mujoco_dts, &ours_dts = a.ours_dts, &mujoco_extra_dts = a.mujoco_extra_dts,
-                            &ours_extra_dts = a.ours_extra_dts;
-  // Ours, built as `nmdp simulate` builds the scene.
-  Ours o;
-  nlohmann::json scene_json = loadSceneJson(scene_path);
-  for (const std::string& assignment : overrides) applyOverride(scene_json, assignment, scene_path + ": --set");
-  o.config = parseScene(scene_json, scene_path);
-  o.model = loadUrdf(o.config.urdf, urdfOptionsFor(o.config));
-  validateAgainstModel(o.config, o.model);
-  if (o.config.contact_model.value("type", "") != "coulomb") throw std::runtime_error("the scene's contact model must be coulomb");
-  o.contact_model = makeCoulombModel(o.config.contact_model, ConfigContext{scene_path + ": contacts.model", o.config.base_dir});
+  const std::unique_ptr<Ours> base = buildOurs(scene_path, overrides);
+  const Ours& o = *base;
   const double mu = dynamic_cast<const CoulombModel&>(*o.contact_model).parameters().mu;
-  o.terrain = makeTerrain(o.config.terrain, ConfigContext{scene_path + ": terrain", o.config.base_dir});
-  o.system.model = &o.model;
-  o.system.contacts = contactPointsFor(o.config, o.model);
-  o.system.contact_model = o.contact_model.get();
-  o.system.terrain = o.terrain.get();
-  o.system.gains = gainsFor(o.config, o.model);
-  o.target = gaitFor(o.config, o.model);
-  o.q0 = initialConfiguration(o.config, o.model);
-  o.qd0 = initialVelocity(o.config, o.model);
-  validateSystem(o.system, o.config.integrator);
+  std::vector<std::unique_ptr<Ours>> configurations;
+  for (const auto& [label, settings] : a.ours_configs) {
+    std::vector<std::string> all = overrides;
+    all.insert(all.end(), settings.begin(), settings.end());
+    configurations.push_back(buildOurs(scene_path, all));
+  }
 
   Mujoco mj = buildMujoco(o, mu);
   // Diagnostics only (the tables are with MuJoCo's defaults): stiffer contacts, elliptic cone.
@@ -492,51 +532,50 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
   }
 
   std::vector<Row> rows;
+  auto add_row = [&](const std::string& family, const Ours* ours, double dt, bool extra) {
+    Row row;
+    row.family = family, row.ours = ours, row.dt = dt, row.extra = extra;
+    rows.push_back(std::move(row));
+  };
   for (const char* engine : {kMujoco, kMujocoImplicitKd}) {
-    for (double dt : mujoco_extra_dts) rows.push_back(makeRow(engine, dt, true));
-    for (double dt : mujoco_dts) rows.push_back(makeRow(engine, dt));
+    for (double dt : a.mujoco_extra_dts) add_row(engine, nullptr, dt, true);
+    for (double dt : a.mujoco_dts) add_row(engine, nullptr, dt, false);
   }
-  for (const char* method : {"ne-pgm", "pbd-pgm"}) {
-    for (double dt : ours_extra_dts) rows.push_back(makeRow(method, dt, true));
-    for (double dt : ours_dts) rows.push_back(makeRow(method, dt));
+  for (size_t k = 0; k < a.ours_configs.size(); ++k) {
+    for (double dt : a.ours_extra_dts) add_row(a.ours_configs[k].first, configurations[k].get(), dt, true);
+    for (double dt : a.ours_dts) add_row(a.ours_configs[k].first, configurations[k].get(), dt, false);
   }
-  auto methodOf = [](const std::string& name) { return name == "ne-pgm" ? Method::NePgm : Method::PbdPgm; };
 
-  // Interleaved repeats; a reference run finer than the benchmarked grid is run once.
+  // Interleaved repeats; the rows run once (finer than the benchmarked grid) only in the first.
   for (int rep = 0; rep < repeats; ++rep)
     for (Row& row : rows) {
       if (row.extra && rep > 0) continue;
-      std::fprintf(stderr, "repeat %d: %s dt = %g ...", rep + 1, row.engine.c_str(), row.dt);
-      row.runs.push_back(isMujoco(row.engine)
-                             ? runMujoco(o, mj, row.dt, duration, bounds, row.engine == kMujocoImplicitKd)
-                             : runOurs(o, methodOf(row.engine), row.dt, duration, bounds));
+      std::fprintf(stderr, "repeat %d: %s dt = %g ...", rep + 1, row.family.c_str(), row.dt);
+      row.runs.push_back(isMujoco(row.family) ? runMujoco(o, mj, row.dt, duration, bounds, row.family == kMujocoImplicitKd)
+                                              : runOurs(*row.ours, row.dt, duration, bounds));
       const Run& r = row.runs.back();
       std::fprintf(stderr, " %.3f s wall, forward %.3f m%s%s\n", r.wall, r.forward, r.stable ? "" : ", unstable: ",
                    r.why.c_str());
     }
 
-  // Per row: medians; deviation from the finest run of the same engine/method (its first repeat:
-  // every repeat is bit-identical).
+  // Per row: medians; deviation from the finest run of the same family (its first repeat: every
+  // repeat is bit-identical), and whether it is within 5 % of it.
   std::map<std::string, const Row*> finest;
   for (const Row& row : rows)
-    if (!row.extra && (!finest.count(row.engine) || row.dt < finest[row.engine]->dt)) finest[row.engine] = &row;
+    if (!finest.count(row.family) || row.dt < finest[row.family]->dt) finest[row.family] = &row;
+  std::vector<bench::Configuration> configurations_timed;
   for (Row& row : rows) {
     std::vector<double> wall, cpu;
     for (const Run& r : row.runs)
       if (r.t_end > 0) wall.push_back(r.wall / r.t_end), cpu.push_back(r.cpu / r.t_end);
     row.wall_per_s = median(wall);
     row.cpu_per_s = median(cpu);
-    const Row& ref = *finest[row.engine];
+    const Row& ref = *finest[row.family];
     row.has_rms = rmsDeviation(row.runs.front(), row.dt, ref.runs.front(), ref.dt, row.rms);
+    row.within = bench::withinTolerance(accuracyOf(row.runs.front()), row.has_rms ? row.rms : NAN, accuracyOf(ref.runs.front()));
+    configurations_timed.push_back({isMujoco(row.family) ? "MuJoCo" : "nmdp", row.family, row.dt, row.wall_per_s,
+                                    row.cpu_per_s, row.within, !row.extra});
   }
-
-  // Which MuJoCo runs stay within 5 % of the same configuration's 1 ms run.
-  auto within5 = [&](const Row& row, const Row& ref) {
-    const Run& r = row.runs.front();
-    const double f = ref.runs.front().forward;
-    return r.stable && ref.runs.front().stable && std::abs(r.forward - f) <= 0.05 * std::abs(f) && row.has_rms &&
-           row.rms <= 0.05 * std::abs(f);
-  };
 
   double target_cost = 0;  // s per evaluation of our gait target
   {
@@ -554,20 +593,29 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     std::snprintf(line, sizeof line, fmt, args...);
     md += line;
   };
-  add("A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`models/scenes/a1_trot_flat.json`: floating base, "
+  add("A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`%s`: floating base, "
       "Coulomb μ = %g, the built-in trot, gains kp = %.4g, kd = %.4g on every joint), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
       "or, as \"MuJoCo, implicit kd\", its kd part as implicit joint damping) on the same "
       "robot, PD targets, gains and initial standing pose; one core, %d interleaved repeats (medians), "
       "`bench/bench_mujoco.cpp`.\n\n",
-      o.model.nq, o.model.total_mass, duration, mu, o.system.gains.kp.maxCoeff(), o.system.gains.kd.maxCoeff(),
-      mujocoVersion().c_str(), repeats);
-  add("| engine / method | dt | wall / simulated s | CPU / simulated s | real-time factor | stable? | forward in %g s | "
-      "RMS deviation from own finest run | same, / distance walked | torso height | sub-steps, outer it. / step |\n",
+      o.model.nq, o.model.total_mass, duration, std::filesystem::path(scene_path).filename().c_str(), mu,
+      o.system.gains.kp.maxCoeff(), o.system.gains.kd.maxCoeff(), mujocoVersion().c_str(), repeats);
+  if (a.ours_configs.size() > 2) {
+    md += "Our configurations (each an nmdp family with its own finest run): ";
+    for (size_t k = 0; k < a.ours_configs.size(); ++k) {
+      md += (k ? "; " : "") + std::string("**") + a.ours_configs[k].first + "**:";
+      for (const std::string& s : a.ours_configs[k].second) md += " `" + s + "`";
+    }
+    md += ".\n\n";
+  }
+  add("| engine / configuration | dt | wall / simulated s | CPU / simulated s | real-time factor | stable? | forward in %g s | "
+      "|Δ(x, y)|, yaw | RMS deviation from own finest run | same, / its |Δ(x, y)| | within 5 %% | torso height | "
+      "sub-steps, outer it. / step |\n",
       duration);
-  add("|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  add("|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---:|\n");
   for (const Row& row : rows) {
     const Run& r = row.runs.front();
-    const Row& ref = *finest[row.engine];
+    const Row& ref = *finest[row.family];
     const bool is_ref = &ref == &row;
     std::string stable = r.stable ? "yes" : "no: " + r.why;
     char rb[64] = "—", rel[64] = "—";
@@ -575,97 +623,78 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     else if (row.has_rms) {
       std::snprintf(rb, sizeof rb, "%.4f m%s", row.rms, r.stable ? "" : " (until it stopped)");
       if (ref.runs.front().stable)
-        std::snprintf(rel, sizeof rel, "%.1f %%", 100 * row.rms / std::max(1e-9, std::abs(ref.runs.front().forward)));
+        std::snprintf(rel, sizeof rel, "%.1f %%", 100 * row.rms / std::max(1e-9, accuracyOf(ref.runs.front()).displacement));
       else
         std::snprintf(rel, sizeof rel, "— (reference fell)");
     }
     char fwd[64];
     if (r.stable) std::snprintf(fwd, sizeof fwd, "%.3f m", r.forward);
     else std::snprintf(fwd, sizeof fwd, "(%.3f m by t = %.2f s)", r.forward, r.t_end);
+    char dxy[64];
+    std::snprintf(dxy, sizeof dxy, "%.3f m, %+.2f rad", accuracyOf(r).displacement, r.yaw);
     char it[64] = "—";
-    if (!isMujoco(row.engine) && r.steps > 0)
+    if (!isMujoco(row.family) && r.steps > 0)
       std::snprintf(it, sizeof it, "%.2f, %.1f", double(r.substeps) / r.steps, double(r.outer) / r.steps);
     char z[64];
     std::snprintf(z, sizeof z, "%.3f–%.3f m", r.z_min, r.z_max);
-    add("| %s%s | %s | %s | %s | %.1f× | %s | %s | %s | %s | %s | %s |\n", row.engine.c_str(), row.extra ? " (check, 1 run)" : "",
-        fmtDt(row.dt).c_str(), fmtTime(row.wall_per_s).c_str(), fmtTime(row.cpu_per_s).c_str(), 1.0 / row.wall_per_s,
-        stable.c_str(), fwd, rb, rel, z, it);
+    add("| %s%s | %s | %s | %s | %.1f× | %s | %s | %s | %s | %s | %s | %s | %s |\n", row.family.c_str(),
+        row.extra ? " (1 run)" : "", fmtDt(row.dt).c_str(), fmtTime(row.wall_per_s).c_str(), fmtTime(row.cpu_per_s).c_str(),
+        1.0 / row.wall_per_s, stable.c_str(), fwd, dxy, rb, rel, row.within ? "yes" : "no", z, it);
   }
   add("\nStable: no NaN, torso height within [%.3f, %.3f] m (0.5–1.5× the initial %.3f m), |roll|, |pitch| < 1 rad, "
       "every step of ours converged, no MuJoCo bad-qacc reset; an unstable run stops there (its time per simulated "
       "second is over the time it ran). Deviation: RMS over the run's own time grid of the 3-D torso-position "
-      "difference from the same engine's finest run, in metres and relative to that finest run's forward distance. "
+      "difference from the same family's finest run, in metres and relative to that finest run's |Δ(x, y)|. "
       "Real-time factor: simulated / wall time. MuJoCo's times include evaluating our gait target and the PD torque "
       "every step (the target alone: %.2f µs per evaluation, measured here), as ours include its target per sub-step.\n\n",
       bounds.z_low, bounds.z_high, bounds.z_low * 2, 1e6 * target_cost);
+  add("Within 5 %%: the run and its family's finest run are stable, the run's horizontal displacement |Δ(x, y)| is "
+      "within %g %% of the finest run's, its RMS torso deviation is below %g %% of that distance, and its final |yaw| "
+      "is below %g rad. Rows marked (1 run) are run once and are never the cheapest.\n\n",
+      100 * bench::kDistanceTolerance, 100 * bench::kRmsTolerance, bench::kYawMax);
 
-  const Row* ne50 = nullptr;
+  // Speed at equal accuracy: per family its cheapest run within 5 %, then per engine.
+  std::vector<std::string> families;  // in the table's order
   for (const Row& row : rows)
-    if (row.engine == "ne-pgm" && std::abs(row.dt - 0.05) < 1e-12) ne50 = &row;
-  add("Within 5 %%: the run and the same engine's finest run are stable, the run's forward distance is within 5 %% of "
-      "the finest run's, and its RMS torso deviation is below 5 %% of the finest run's forward distance.\n\n");
-  // Per MuJoCo configuration: its largest dt within 5 % of its own 1 ms run, and ne-pgm at 50 ms
-  // against it. The goal is met only against both (the faster of the two is the one to beat).
-  int compared = 0, beaten = 0;
-  for (const char* engine : {kMujoco, kMujocoImplicitKd}) {
-    if (!finest.count(engine)) continue;
-    const Row& mj_ref = *finest[engine];
-    const Row* mj_best = nullptr;
-    for (const Row& row : rows)
-      if (row.engine == engine && within5(row, mj_ref) && (!mj_best || row.dt > mj_best->dt)) mj_best = &row;
-    if (mj_best && ne50) {
-      const double ratio_wall = ne50->wall_per_s / mj_best->wall_per_s, ratio_cpu = ne50->cpu_per_s / mj_best->cpu_per_s;
-      ++compared;
-      if (ratio_wall < 1) ++beaten;
-      add("- %s: largest dt within 5 %% of its %s run **%s** (%s wall per simulated second, forward %.3f m vs %.3f m); "
-          "ne-pgm @ 50 ms / %s @ %s: **%.2f×** wall time (%.2f× CPU time).\n",
-          engine, fmtDt(mj_ref.dt).c_str(), fmtDt(mj_best->dt).c_str(), fmtTime(mj_best->wall_per_s).c_str(),
-          mj_best->runs.front().forward, mj_ref.runs.front().forward, engine, fmtDt(mj_best->dt).c_str(), ratio_wall,
-          ratio_cpu);
-    } else if (!mj_ref.runs.front().stable) {
-      add("- %s: its finest run (%s) is itself not stable (%s): no run of it is a trot to compare with.\n", engine,
-          fmtDt(mj_ref.dt).c_str(), mj_ref.runs.front().why.c_str());
-    } else {
-      add("- %s: no run within 5 %% of its finest run, or ne-pgm at 50 ms was not run.\n", engine);
-    }
-  }
-  if (ne50) {
-    add("- ne-pgm at 50 ms: %s wall per simulated second (%s; forward %.3f m).\n", fmtTime(ne50->wall_per_s).c_str(),
-        ne50->runs.front().stable ? "stable" : "UNSTABLE", ne50->runs.front().forward);
-    if (compared == 0)
-      add("- Speed goal: undefined (no MuJoCo configuration has a stable 1 ms run with a coarser run within 5 %% of it).\n");
+    if (std::find(families.begin(), families.end(), row.family) == families.end()) families.push_back(row.family);
+  for (const std::string& family : families) {
+    const Row* ref = finest[family];
+    const bench::Configuration* best = nullptr;
+    for (const bench::Configuration& c : configurations_timed)
+      if (c.family == family && c.candidate && c.within && (!best || c.wall_per_s < best->wall_per_s)) best = &c;
+    const Run& fr = ref->runs.front();
+    if (best)
+      add("- %s: cheapest within 5 %% of its %s run: %s (%s wall, %s CPU per simulated second).\n", family.c_str(),
+          fmtDt(ref->dt).c_str(), fmtDt(best->dt).c_str(), fmtTime(best->wall_per_s).c_str(), fmtTime(best->cpu_per_s).c_str());
+    else if (!fr.stable)
+      add("- %s: its finest run (%s) is itself not stable (%s): nothing to be accurate to.\n", family.c_str(),
+          fmtDt(ref->dt).c_str(), fr.why.c_str());
     else
-      add("- Speed goal: %s (ne-pgm at 50 ms faster than %d of the %d MuJoCo configurations' largest dt within 5 %%).\n",
-          beaten == compared ? "**met**" : "**NOT met**", beaten, compared);
-    const Row* ne_ref = finest["ne-pgm"];
-    const bool ne_ok = within5(*ne50, *ne_ref);
-    add("- ne-pgm at 50 ms against its own finest run (%s): %s (forward %.3f m vs %.3f m, RMS %.4f m).\n",
-        fmtDt(ne_ref->dt).c_str(), ne_ok ? "within 5 %" : "NOT within 5 %", ne50->runs.front().forward,
-        ne_ref->runs.front().forward, ne50->rms);
+      add("- %s: no timed run within 5 %% of its %s run.\n", family.c_str(), fmtDt(ref->dt).c_str());
   }
-  if (ne50) {
-    std::string raw;
-    for (const Row& row : rows)
-      if (isMujoco(row.engine) && !row.extra) {
-        char b[200];
-        std::snprintf(b, sizeof b, "%s%s %s: %.2f× wall, %.2f× CPU", raw.empty() ? "" : "; ", row.engine.c_str(), fmtDt(row.dt).c_str(),
-                      ne50->wall_per_s / row.wall_per_s, ne50->cpu_per_s / row.cpu_per_s);
-        raw += b;
-        if (!row.runs.front().stable) raw += " (MuJoCo unstable)";
-      }
-    add("- Speed alone, accuracy aside: ne-pgm at 50 ms (%s, %s wall / %s CPU per simulated second) over MuJoCo at "
-        "each dt: %s.\n",
-        ne50->runs.front().stable ? "stable" : "unstable", fmtTime(ne50->wall_per_s).c_str(),
-        fmtTime(ne50->cpu_per_s).c_str(), raw.c_str());
-  }
+  const bench::Configuration* mj_best = bench::cheapestWithin(configurations_timed, "MuJoCo");
+  const bench::Configuration* ours_best = bench::cheapestWithin(configurations_timed, "nmdp");
+  if (mj_best && ours_best)
+    add("- **Speed at equal accuracy**: the cheapest configuration of each engine within 5 %% of its own finest run: "
+        "nmdp %s at %s (%s per simulated second), MuJoCo%s at %s (%s); nmdp / MuJoCo = **%.2f×** wall time (%.2f× "
+        "CPU time); target at most 0.5×: **%s**.\n",
+        ours_best->family.c_str(), fmtDt(ours_best->dt).c_str(), fmtTime(ours_best->wall_per_s).c_str(),
+        mj_best->family == kMujoco ? "" : (" (" + mj_best->family.substr(std::strlen(kMujoco) + 2) + ")").c_str(),
+        fmtDt(mj_best->dt).c_str(), fmtTime(mj_best->wall_per_s).c_str(), ours_best->wall_per_s / mj_best->wall_per_s,
+        ours_best->cpu_per_s / mj_best->cpu_per_s, ours_best->wall_per_s <= 0.5 * mj_best->wall_per_s ? "met" : "not met");
+  else
+    add("- **Speed at equal accuracy**: undefined: %s within 5 %% of its own finest run.\n",
+        !mj_best && !ours_best ? "neither engine has a timed run" : !mj_best ? "MuJoCo has no timed run" : "nmdp has no timed run");
   {
     std::string fine;
     for (const Row& row : rows)
-      if (row.extra || &row == finest[row.engine]) {
+      if (&row == finest[row.family]) {
         const Run& r = row.runs.front();
         char b[200];
-        if (r.stable) std::snprintf(b, sizeof b, "%s%s at %s %.3f m", fine.empty() ? "" : "; ", row.engine.c_str(), fmtDt(row.dt).c_str(), r.forward);
-        else std::snprintf(b, sizeof b, "%s%s at %s falls (%s)", fine.empty() ? "" : "; ", row.engine.c_str(), fmtDt(row.dt).c_str(), r.why.c_str());
+        if (r.stable)
+          std::snprintf(b, sizeof b, "%s%s at %s %.3f m (|Δ(x, y)| %.3f m, yaw %+.2f rad)", fine.empty() ? "" : "; ",
+                        row.family.c_str(), fmtDt(row.dt).c_str(), r.forward, accuracyOf(r).displacement, r.yaw);
+        else std::snprintf(b, sizeof b, "%s%s at %s falls (%s)", fine.empty() ? "" : "; ", row.family.c_str(), fmtDt(row.dt).c_str(), r.why.c_str());
         fine += b;
       }
     add("- Forward distance in %g s at the finest dt of each: %s.\n", duration, fine.c_str());
@@ -686,6 +715,7 @@ int run(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--mujoco-extra-dts")) a.mujoco_extra_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--ours-extra-dts")) a.ours_extra_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--set")) a.overrides.push_back(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--ours-config")) a.ours_configs.emplace_back(argv[i + 1], parseConfiguration(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--mujoco-dts")) a.mujoco_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--ours-dts")) a.ours_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--damped-kd")) a.damped_kd = std::atof(argv[i + 1]);
@@ -694,6 +724,7 @@ int run(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: bench_mujoco [--repeats N] [--duration S] [--out FILE] [--scene SCENE.json] [--set key.path=value]...\n"
+                   "                    [--ours-config \"integrator.key=value;...\"]... (another nmdp configuration to compare)\n"
                    "                    [--mujoco-dts S,..] [--ours-dts S,..] [--mujoco-extra-dts S,..] [--ours-extra-dts S,..]\n"
                    "                    [--damped-kd KD (0: skip the second scenario)]\n"
                    "                    diagnostics (not MuJoCo's defaults; flagged in the output): [--mujoco-timeconst T] [--mujoco-elliptic 0|1]\n");
