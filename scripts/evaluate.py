@@ -8,11 +8,13 @@ Usage:
     scripts/evaluate.py --duration 0.2          # a smoke run: page and runs in build/evaluation-short/
     scripts/evaluate.py --set integrator.order=2 --set integrator.accuracy=1e-3   # settings for every run
     scripts/evaluate.py --variant "kd 3" controller.kd=3   # extra labelled rows (their own 1 ms reference)
-    scripts/evaluate.py --variants              # also the cases' built-in labelled variants (former tuning)
+    scripts/evaluate.py --no-variants           # only the defaults' rows, not the cases' built-in variants
 
 Cases (scripts/evaluation/cases.py): the project's quadruped, A1 and Solo-12 trotting on flat ground
 with a floating base; RoboSimian walking with the paper's planar base on rigid ground (Coulomb) and on
-the published sand model; the quadruped's planar trot on the project's sand model. Scenes are written
+the published sand model; the quadruped's planar trot on the project's sand model. Some cases carry
+labelled variants (the former evaluation's gains, swing profile and start ramp; A1 with kd = 3): extra
+rows against their own 1 ms run, never part of the verdict. Scenes are written
 at run time into the results folder from the robot and the keys that define the case; robots in
 ../shared are read in place, and a case whose files are absent is skipped with a message.
 
@@ -51,7 +53,8 @@ def parse_args(argv):
                     help="passed to every run as nmdp simulate --set (repeatable), e.g. integrator.order=2")
     ap.add_argument("--variant", nargs="+", action="append", default=[], metavar=("LABEL", "KEY=VALUE"),
                     help="extra labelled rows for every case: LABEL then --set settings")
-    ap.add_argument("--variants", action="store_true", help="add each case's built-in labelled variants as extra rows")
+    ap.add_argument("--no-variants", dest="variants", action="store_false",
+                    help="leave out each case's built-in labelled variants (the former evaluation's tuning)")
     ap.add_argument("--cases", default=None, help="comma-separated case ids (default: all)")
     ap.add_argument("--methods", default=",".join(runs.METHODS), help="comma-separated methods (default ne-pgm,pbd-pgm)")
     ap.add_argument("--dts", default=",".join(f"{dt:g}" for dt in runs.DTS),

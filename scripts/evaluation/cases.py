@@ -47,7 +47,7 @@ def _robosimian(ground):
 
 def all_cases():
     """Every case: id, robot, base, ground, the scene (a dict), the files it needs, and labelled
-    variants ({label: [--set ...]}) that become extra rows with the --variants option."""
+    variants ({label: [--set ...]}) that become extra rows (unless --no-variants)."""
     quadruped_gains = ["controller.kp=1800", "controller.kd=3", "controller.gait.swing_profile=ground_speed",
                        "controller.gait.start_ramp=0.5"]
     robosimian_gains = ["controller.kp=10000", "controller.kd=10", "controller.gait.swing_profile=ground_speed",

@@ -99,7 +99,7 @@ def verdict(row, ref):
     if ref is None:
         return False, ["no reference run"]
     if not ref["stable"]:
-        reasons.append("the 1 ms reference is not stable")
+        reasons.append("the reference is not stable")
     if not row["stable"]:
         reasons.append("not stable")
     scale = abs(ref["distance"])

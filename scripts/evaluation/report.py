@@ -129,7 +129,8 @@ def write(path, info, cases, skipped, rows, figures, methods, dts, reference_dt)
         for r in (r for r in rows if r["case"] == c["id"]):
             within = "yes" if r["within"] else "**no**: " + ", ".join(r["reasons"])
             if r["is_ref"]:
-                within = "(reference)" + ("" if r["within"] else ": " + ", ".join(r["reasons"]))
+                own = [x for x in r["reasons"] if not x.startswith("the reference")]
+                within = "(reference)" + (": " + ", ".join(own) if own else "")
             rms = "—" if r["is_ref"] else f"{fmt(r['rms'], '.4f')} ({fmt(100 * r['rms_rel'], '.1f')} %)"
             A(f"| {r['variant'] or 'defaults'} | {r['method']} | {r['dt'] * 1000:g} | "
               f"{'yes' if r['stable'] else 'no: ' + r['why']} | {fmt(r['x'])} | {fmt(r['dxy'])} | {fmt(r['yaw'], '+.3f')} | "
