@@ -12,9 +12,10 @@ Usage:
 
 Cases (scripts/evaluation/cases.py): the project's quadruped, A1 and Solo-12 trotting on flat ground
 with a floating base; RoboSimian walking with the paper's planar base on rigid ground (Coulomb) and on
-the published sand model; the quadruped's planar trot on the project's sand model. Some cases carry
-labelled variants (the former evaluation's gains, swing profile and start ramp; A1 with kd = 3): extra
-rows against their own 1 ms run, never part of the verdict. Scenes are written
+the published sand model; the quadruped's planar trot on the project's sand model. Every case carries
+labelled variants: K = full-body-pd (integrator.kinetic_energy, as the repository's scenes set it) and
+some the former evaluation's K, gains, swing profile and start ramp (A1: kd = 3): extra rows against
+their own 1 ms run, never part of the verdict. Scenes are written
 at run time into the results folder from the robot and the keys that define the case; robots in
 ../shared are read in place, and a case whose files are absent is skipped with a message.
 
@@ -38,8 +39,8 @@ ROOT = case_defs.ROOT
 def git_state():
     try:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
-        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no"], cwd=ROOT, capture_output=True,
-                               text=True).stdout.strip()
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", ".", ":!docs/RESULTS.md",
+                                ":!docs/figures"], cwd=ROOT, capture_output=True, text=True).stdout.strip()
     except OSError:
         return "unknown", False
     return commit or "unknown", bool(dirty)

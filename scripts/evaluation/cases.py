@@ -48,30 +48,33 @@ def _robosimian(ground):
 def all_cases():
     """Every case: id, robot, base, ground, the scene (a dict), the files it needs, and labelled
     variants ({label: [--set ...]}) that become extra rows (unless --no-variants)."""
-    quadruped_gains = ["controller.kp=1800", "controller.kd=3", "controller.gait.swing_profile=ground_speed",
+    # The K the repository's scenes set (not the default yet); the former evaluation ran with it.
+    pd_k = "integrator.kinetic_energy=full-body-pd"
+    quadruped_gains = [pd_k, "controller.kp=1800", "controller.kd=3", "controller.gait.swing_profile=ground_speed",
                        "controller.gait.start_ramp=0.5"]
-    robosimian_gains = ["controller.kp=10000", "controller.kd=10", "controller.gait.swing_profile=ground_speed",
+    robosimian_gains = [pd_k, "controller.kp=10000", "controller.kd=10", "controller.gait.swing_profile=ground_speed",
                         "controller.gait.start_ramp=1"]
     cases = [
         dict(id="quadruped_trot_flat", robot="quadruped", base="floating", ground="rigid",
              scene=_scene_keys("quadruped_trot_flat.json"),
-             variants={"tuned (the former evaluation's gains, swing and ramp; planar base)":
+             variants={"tuned (the former evaluation's K, gains, swing and ramp; planar base)":
                        ["robot.base=planar"] + quadruped_gains}),
         dict(id="a1_trot_flat", robot="A1", base="floating", ground="rigid",
              scene=_floating_trot(os.path.join(SHARED, "robots", "a1", "urdf", "a1.urdf")),
-             variants={"kd = 3 (bench_mujoco's damped scenario)": ["controller.kd=3"]}),
+             variants={"kd = 3, K = full-body-pd (bench_mujoco's damped scenario)": [pd_k, "controller.kd=3"]}),
         dict(id="solo12_trot_flat", robot="Solo-12", base="floating", ground="rigid",
              scene=_floating_trot(os.path.join(SHARED, "robots", "solo12", "urdf", "solo12.urdf")),
              variants={}),
         dict(id="robosimian_walk_rigid", robot="RoboSimian", base="planar", ground="rigid",
-             scene=None, variants={"tuned (the former evaluation's gains, swing and ramp)": robosimian_gains}),
+             scene=None, variants={"tuned (the former evaluation's K, gains, swing and ramp)": robosimian_gains}),
         dict(id="robosimian_walk_sand", robot="RoboSimian", base="planar", ground="sand",
-             scene=None, variants={"tuned (the former evaluation's gains, swing and ramp)": robosimian_gains}),
+             scene=None, variants={"tuned (the former evaluation's K, gains, swing and ramp)": robosimian_gains}),
         dict(id="quadruped_trot_sand", robot="quadruped", base="planar", ground="sand",
              scene=_scene_keys("quadruped_trot_sand.json"),
-             variants={"tuned (the former evaluation's gains, swing and ramp)": quadruped_gains}),
+             variants={"tuned (the former evaluation's K, gains, swing and ramp)": quadruped_gains}),
     ]
     for c in cases:
+        c["variants"] = {"K = full-body-pd": [pd_k], **c["variants"]}
         if c["robot"] == "RoboSimian":
             try:
                 c["scene"] = _robosimian(c["ground"])

@@ -28,6 +28,9 @@ def plan(cases, variants_of, methods=METHODS, dts=DTS):
                     name = f"{method}_dt{round(dt * 1000):03d}ms"
                     key = f"{c['id']}/{slug(label) if label else 'default'}/{name}"
                     runs.append(dict(case=c["id"], variant=label, sets=list(sets), method=method, dt=dt, key=key))
+    keys = [r["key"] for r in runs]
+    if len(set(keys)) != len(keys):
+        raise ValueError("two variants of a case share a file name: " + ", ".join(sorted({k for k in keys if keys.count(k) > 1})))
     return runs
 
 
