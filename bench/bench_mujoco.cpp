@@ -16,8 +16,14 @@
 // our integrator evaluates the stable PD at the new state (q*, q̇* at t + h). A second MuJoCo
 // configuration, "MuJoCo, implicit kd", is what a MuJoCo user would set up for stiff damped joints:
 // the kd (−q̇) part as the joints' dof_damping, which MuJoCo's Euler integrator integrates
-// implicitly, and only kp (q* − q) + kd q̇* + τ_ff in qfrc_applied. The speed goal is judged against
-// the faster of the two configurations' largest dt within 5 % of their own 1 ms run.
+// implicitly, and only kp (q* − q) + kd q̇* + τ_ff in qfrc_applied.
+//
+// Speed at equal accuracy (bench/equal_accuracy.hpp): for each engine the cheapest configuration
+// (family and dt) whose run stays within 5 % of its family's finest run, and the ratio of their wall
+// times per simulated second. Our families are ne-pgm and pbd-pgm at the scene's other integrator
+// settings, plus one per --ours-config (a list of integrator.* settings, e.g.
+// "integrator.method=ne-pgm;integrator.order=2"), so that later integrator features are measured
+// without changing this file.
 //
 // Two scenarios in one run: the scene as it is, and the same with controller.kd raised
 // (--damped-kd, default 3), because with the scene's kd neither engine's fine-dt run keeps trotting.
@@ -30,10 +36,11 @@
 // docs/results/mujoco_a1.md in the source tree).
 //
 // Usage: bench_mujoco [--repeats N] [--duration S] [--out FILE] [--scene SCENE.json] [--set key.path=value]...
+//                     [--ours-config "integrator.key=value;..."]...
 //                     [--mujoco-dts S,..] [--ours-dts S,..] [--mujoco-extra-dts S,..] [--ours-extra-dts S,..]
+// (the extra dts are run once: the finest run of each family, never a candidate for the cheapest);
 //                     [--damped-kd KD] [--mujoco-timeconst T] [--mujoco-elliptic 0|1]
-// (the extra dts are convergence checks, run once, never the reference; the last two are diagnostics
-// that leave MuJoCo's contact defaults, flagged in the output).
+// (the last two are diagnostics that leave MuJoCo's contact defaults, flagged in the output).
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
@@ -43,15 +50,18 @@
 #include <cstdlib>
 #include <cstring>
 #include <ctime>
+#include <filesystem>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unistd.h>
 #include <vector>
 
-#include "bench_clock.hpp"
-#include "../tests/mujoco_urdf.hpp"
+#include "equal_accuracy.hpp"
+#include "mujoco_a1_runs.hpp"
 #include "contact_models/coulomb_model.hpp"
 #include "io/json_params.hpp"
 #include "io/scene.hpp"
@@ -65,326 +75,24 @@ using namespace nmdp;
 
 namespace {
 
-using bench::threadCpuSeconds;
-using bench::wallSeconds;
-
-double median(std::vector<double> v) {
-  if (v.empty()) return NAN;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
-// Stability bounds: torso (trunk origin) height within [0.5, 1.5] × its initial (standing) height,
-// |roll|, |pitch| < 1 rad, everything finite; for ours also every step converged, for MuJoCo no
-// bad-qacc warning (MuJoCo resets the state when the acceleration is not finite).
-struct Bounds {
-  double z_low = 0, z_high = 0;
-  double tilt = 1.0;
-};
-
-struct Run {
-  bool stable = true;
-  std::string why;       // why it stopped, if it did
-  double t_end = 0;      // simulated time reached
-  double wall = 0, cpu = 0;  // whole run, s
-  double forward = 0;    // torso x travelled
-  double lateral = 0;    // torso y at the end
-  double z_min = 1e9, z_max = -1e9, tilt_max = 0;
-  long substeps = 0, outer = 0, steps = 0;  // ours: accepted sub-steps and outer iterations, steps taken
-  std::vector<Vec3> position;  // torso position at k dt, k = 0..steps done
-};
-
-// Updates the per-step record and the stability check; false once unstable.
-bool observe(Run& r, const Bounds& b, double t, const Vec3& p, const Vec3& rpy, const Vec3& p0) {
-  r.t_end = t;
-  r.position.push_back(p);
-  if (!p.allFinite() || !rpy.allFinite()) {
-    r.stable = false, r.why = "NaN";
-    return false;
-  }
-  r.z_min = std::min(r.z_min, p.z());
-  r.z_max = std::max(r.z_max, p.z());
-  r.tilt_max = std::max({r.tilt_max, std::abs(rpy.x()), std::abs(rpy.y())});
-  r.forward = p.x() - p0.x();
-  r.lateral = p.y() - p0.y();
-  char buf[96];
-  if (p.z() < b.z_low || p.z() > b.z_high) {
-    std::snprintf(buf, sizeof buf, "torso height %.3f m at t = %.3f s", p.z(), t);
-    r.stable = false, r.why = buf;
-    return false;
-  }
-  if (std::abs(rpy.x()) >= b.tilt || std::abs(rpy.y()) >= b.tilt) {
-    std::snprintf(buf, sizeof buf, "tilt %.2f rad at t = %.3f s", std::max(std::abs(rpy.x()), std::abs(rpy.y())), t);
-    r.stable = false, r.why = buf;
-    return false;
-  }
-  return true;
-}
-
-// ---- ours -----------------------------------------------------------------------------------------
-
-struct Ours {
-  SceneConfig config;
-  Model model;
-  std::unique_ptr<ContactModel> contact_model;
-  std::unique_ptr<Terrain> terrain;
-  System system;
-  std::unique_ptr<PdTargetSource> target;
-  Eigen::VectorXd q0, qd0;
-};
-
-Run runOurs(const Ours& o, Method method, double dt, double duration, const Bounds& bounds) {
-  IntegratorOptions options = o.config.integrator;
-  options.method = method;
-  StepWorkspace ws(o.system, options);
-  SimulationState state = initialState(o.system, options, o.q0, o.qd0, dt);
-  Data pose_data(o.model);
-  Vec3 p, rpy;
-  auto pose = [&] {
-    pose_data.base_chart = state.base_chart;
-    forwardKinematics(o.model, pose_data, state.q);
-    basePose(o.model, pose_data, p, rpy);
-  };
-  Run r;
-  const long steps = std::lround(duration / dt);
-  r.position.reserve(steps + 1);
-  pose();
-  const Vec3 p0 = p;
-  observe(r, bounds, 0.0, p, rpy, p0);
-  double wall = 0, cpu = 0;
-  for (long i = 1; i <= steps; ++i) {
-    const double w0 = wallSeconds(), c0 = threadCpuSeconds();
-    const StepStats s = advance(o.system, options, *o.target, state, dt, ws);
-    cpu += threadCpuSeconds() - c0;
-    wall += wallSeconds() - w0;
-    r.substeps += s.substeps, r.outer += s.outer_iterations, ++r.steps;
-    if (!s.converged) {
-      r.stable = false;
-      r.why = std::string("step failed (") + toString(s.status) + ") at t = " + std::to_string(i * dt);
-      r.t_end = (i - 1) * dt;
-      break;
-    }
-    pose();  // outside the timing: the simulation does not need it
-    if (!observe(r, bounds, i * dt, p, rpy, p0)) break;
-  }
-  r.wall = wall, r.cpu = cpu;
-  return r;
-}
-
-// ---- MuJoCo ---------------------------------------------------------------------------------------
-
-struct Mujoco {
-  test::MjModelPtr m;
-  std::vector<int> coordinate;  // ours: actuated coordinate i
-  std::vector<int> qposadr, dofadr;  // MuJoCo's addresses of that joint
-  int free_qpos = 0, free_dof = 0, trunk = -1;  // trunk: the free body (A1: base + trunk fused)
-  int feet = 0;
-  double mu = 0;
-};
-
-std::string readFile(const std::string& path) { return test::readText(path); }
-
-std::string readFileOr(const std::string& path) {
-  std::ifstream in(path);
-  std::string text;
-  std::getline(in, text);
-  return text;
-}
-
-std::string mujocoVersion() {
-  const int v = mj_version();  // e.g. 222 for 2.2.2
-  return std::to_string(v / 100) + "." + std::to_string(v / 10 % 10) + "." + std::to_string(v % 10);
-}
-
-// Our q0 in MuJoCo's coordinates (the base from the root-link pose our kinematics gives: the chart
-// is the identity at t = 0), q̇0 = 0 (the scene's: asserted), and mj_forward.
-void setInitialState(const Ours& o, const Mujoco& mj, mjData* d) {
-  const mjModel* m = mj.m.get();
-  if (o.qd0.cwiseAbs().maxCoeff() != 0) throw std::runtime_error("non-zero initial velocity is not mapped to MuJoCo");
-  Data pose_data(o.model);
-  forwardKinematics(o.model, pose_data, o.q0);
-  Vec3 p0, rpy0;
-  basePose(o.model, pose_data, p0, rpy0);
-  const Eigen::Quaterniond q0(test::rpyMatrix(rpy0));
-  mj_resetData(m, d);
-  for (int k = 0; k < 3; ++k) d->qpos[mj.free_qpos + k] = p0[k];
-  d->qpos[mj.free_qpos + 3] = q0.w(), d->qpos[mj.free_qpos + 4] = q0.x(), d->qpos[mj.free_qpos + 5] = q0.y();
-  d->qpos[mj.free_qpos + 6] = q0.z();
-  for (size_t k = 0; k < mj.coordinate.size(); ++k) d->qpos[mj.qposadr[k]] = o.q0[mj.coordinate[k]];
-  mju_zero(d->qvel, m->nv);
-  mj_forward(m, d);
-}
-
-Mujoco buildMujoco(const Ours& o, double mu) {
-  // The URDF MuJoCo is given: the oracle test's edits (visuals removed, MuJoCo's inertia
-  // alterations off, principal-axes inertias; static links fused into their parents), plus a root
-  // link "mj_world" holding the robot's root link by a floating joint (MuJoCo's free joint) and the
-  // ground: a 200 m × 200 m × 1 m box whose top face is z = 0 (a URDF cannot hold a plane; for a
-  // sphere on its top face the contact is a plane's). mj_world and the ground are static and fused
-  // into MuJoCo's world body. Everything stays in memory: no lossy MJCF round trip (mj_saveLastXML
-  // writes 6 significant digits).
-  std::string root;  // the URDF's root link (A1: base, welded to trunk)
-  for (const Link& l : o.model.links)
-    if (l.parent_link < 0) root = l.name;
-  std::string urdf = test::urdfForMujoco(readFile(o.config.urdf), /*fusestatic=*/true);
-  const size_t close = urdf.rfind("</robot>");
-  if (close == std::string::npos) throw std::runtime_error("no </robot> in " + o.config.urdf);
-  urdf.insert(close,
-              "  <link name=\"mj_world\"/>\n"
-              "  <joint name=\"mj_free\" type=\"floating\"><parent link=\"mj_world\"/><child link=\"" + root +
-                  "\"/></joint>\n"
-              "  <link name=\"mj_ground\"><collision><origin xyz=\"0 0 -0.5\" rpy=\"0 0 0\"/><geometry>"
-              "<box size=\"200 200 1\"/></geometry></collision></link>\n"
-              "  <joint name=\"mj_ground_fixed\" type=\"fixed\"><parent link=\"mj_world\"/><child link=\"mj_ground\"/>"
-              "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/></joint>\n");
-  std::string error;
-  test::MjModelPtr m = test::loadMujocoFromMemory(urdf, "a1_floating.urdf", error);
-  if (!m) throw std::runtime_error(error);
-  if (!error.empty()) std::fprintf(stderr, "%s\n", error.c_str());
-
-  Mujoco mj;
-  mj.mu = mu;
-  for (int k = 0; k < 3; ++k) m->opt.gravity[k] = o.model.gravity[k];
-  for (int i = 0; i < m->nv; ++i)
-    if (m->dof_armature[i] != 0 || m->dof_damping[i] != 0 || m->dof_frictionloss[i] != 0)
-      throw std::runtime_error("MuJoCo model has armature/damping/friction loss on dof " + std::to_string(i));
-  for (int j = 0; j < m->njnt; ++j) m->jnt_limited[j] = 0;  // ours enforces no joint limits
-  int free_joint = -1;
-  for (int j = 0; j < m->njnt; ++j)
-    if (m->jnt_type[j] == mjJNT_FREE) free_joint = j;
-  if (free_joint < 0) throw std::runtime_error("MuJoCo made no free joint of the floating joint");
-  if (m->body_parentid[m->jnt_bodyid[free_joint]] != 0) throw std::runtime_error("the free joint's body is not top-level");
-  mj.trunk = m->jnt_bodyid[free_joint];
-  mj.free_qpos = m->jnt_qposadr[free_joint];
-  mj.free_dof = m->jnt_dofadr[free_joint];
-  if (std::abs(m->body_subtreemass[mj.trunk] - o.model.total_mass) > 1e-9 * o.model.total_mass)
-    throw std::runtime_error("MuJoCo's robot mass " + std::to_string(m->body_subtreemass[mj.trunk]) + " differs from ours");
-  // Actuated joints by name.
-  for (int i = 0; i < o.model.nq; ++i) {
-    if (o.model.bodies[i].is_base) continue;
-    const int j = mj_name2id(m.get(), mjOBJ_JOINT, o.model.dof_names[i].c_str());
-    if (j < 0) throw std::runtime_error("MuJoCo has no joint " + o.model.dof_names[i]);
-    mj.coordinate.push_back(i);
-    mj.qposadr.push_back(m->jnt_qposadr[j]);
-    mj.dofadr.push_back(m->jnt_dofadr[j]);
-  }
-  if (m->nv != o.model.nq) throw std::runtime_error("MuJoCo and nmdp disagree on the number of degrees of freedom");
-
-  // Contacts: the foot spheres (matched to our contact points by their world centres at the
-  // initial pose, and by radius) against the ground only.
-  mj.m = std::move(m);
-  m.reset();
-  mjModel* mm = mj.m.get();
-  test::MjDataPtr d(mj_makeData(mm));
-  setInitialState(o, mj, d.get());
-  Data data(o.model);
-  forwardKinematics(o.model, data, o.q0);
-  int ground = -1;
-  for (int g = 0; g < mm->ngeom; ++g) {
-    mm->geom_contype[g] = 0;
-    mm->geom_conaffinity[g] = 0;
-    if (mm->geom_bodyid[g] == 0 && mm->geom_type[g] == mjGEOM_BOX) ground = g;
-  }
-  if (ground < 0) throw std::runtime_error("no ground box in MuJoCo's world body");
-  mm->geom_conaffinity[ground] = 1;
-  mm->geom_friction[3 * ground] = mu;
-  mm->geom_condim[ground] = 3;
-  for (const ContactPoint& c : o.system.contacts) {
-    const Vec3 centre = linkPoint(o.model, data, c.link, c.offset);
-    int found = -1;
-    for (int g = 0; g < mm->ngeom; ++g)
-      if (mm->geom_type[g] == mjGEOM_SPHERE && std::abs(mm->geom_size[3 * g] - c.radius) < 1e-12 &&
-          (Eigen::Map<const Eigen::Vector3d>(d->geom_xpos + 3 * g) - centre).norm() < 1e-9)
-        found = g;
-    if (found < 0) throw std::runtime_error("no MuJoCo foot sphere matches our contact point " + c.name);
-    mm->geom_contype[found] = 1;
-    mm->geom_friction[3 * found] = mu;
-    mm->geom_condim[found] = 3;
-    ++mj.feet;
-  }
-  // The defaults the report states.
-  if (mm->opt.integrator != mjINT_EULER || mm->opt.solver != mjSOL_NEWTON || mm->opt.cone != mjCONE_PYRAMIDAL)
-    throw std::runtime_error("MuJoCo's options are not the defaults this benchmark reports");
-  for (int g = 0; g < mm->ngeom; ++g)
-    if (mm->geom_contype[g] || mm->geom_conaffinity[g])
-      if (mm->geom_solref[mjNREF * g] != 0.02 || mm->geom_solref[mjNREF * g + 1] != 1 || mm->geom_solimp[mjNIMP * g] != 0.9 ||
-          mm->geom_solimp[mjNIMP * g + 1] != 0.95 || mm->geom_solimp[mjNIMP * g + 2] != 0.001)
-        throw std::runtime_error("MuJoCo's contact solref/solimp are not the defaults this benchmark reports");
-  return mj;
-}
-
-Vec3 rpyOfQuaternion(const double* quat) {
-  const Eigen::Quaterniond q(quat[0], quat[1], quat[2], quat[3]);
-  return test::rpyOf(q.normalized().toRotationMatrix());
-}
-
-constexpr const char* kMujoco = "MuJoCo";
-constexpr const char* kMujocoImplicitKd = "MuJoCo, implicit kd";
-bool isMujoco(const std::string& engine) { return engine == kMujoco || engine == kMujocoImplicitKd; }
-
-// implicit_kd: −kd q̇ as dof_damping (integrated implicitly by MuJoCo's Euler integrator), the rest
-// of the PD torque explicit; otherwise the whole PD torque explicit.
-Run runMujoco(const Ours& o, Mujoco& mj, double dt, double duration, const Bounds& bounds, bool implicit_kd) {
-  mjModel* m = mj.m.get();
-  m->opt.timestep = dt;
-  for (size_t k = 0; k < mj.coordinate.size(); ++k) m->dof_damping[mj.dofadr[k]] = implicit_kd ? o.system.gains.kd[mj.coordinate[k]] : 0.0;
-  test::MjDataPtr d(mj_makeData(m));
-  setInitialState(o, mj, d.get());
-  Vec3 p0 = Eigen::Map<const Vec3>(d->qpos + mj.free_qpos);
-
-  PdTarget target;
-  target.position = Eigen::VectorXd::Zero(o.model.nq);
-  target.velocity = Eigen::VectorXd::Zero(o.model.nq);
-  const PdGains& g = o.system.gains;
-  Run r;
-  const long steps = std::lround(duration / dt);
-  r.position.reserve(steps + 1);
-  auto pose = [&](Vec3& p, Vec3& rpy) {
-    for (int k = 0; k < 3; ++k) p[k] = d->qpos[mj.free_qpos + k];
-    rpy = rpyOfQuaternion(d->qpos + mj.free_qpos + 3);
-  };
-  Vec3 p, rpy;
-  pose(p, rpy);
-  observe(r, bounds, 0.0, p, rpy, p0);
-  const double w0 = wallSeconds(), c0 = threadCpuSeconds();
-  double pose_wall = 0, pose_cpu = 0;
-  for (long i = 1; i <= steps; ++i) {
-    o.target->evaluate((i - 1) * dt, target);  // explicit: the target and the state at the step's start
-    for (size_t k = 0; k < mj.coordinate.size(); ++k) {
-      const int c = mj.coordinate[k];
-      d->qfrc_applied[mj.dofadr[k]] = g.kp[c] * (target.position[c] - d->qpos[mj.qposadr[k]]) +
-                                      g.kd[c] * (target.velocity[c] - (implicit_kd ? 0.0 : d->qvel[mj.dofadr[k]])) +
-                                      g.tau_ff[c];
-    }
-    mj_step(m, d.get());
-    const double w1 = wallSeconds(), c1 = threadCpuSeconds();
-    pose(p, rpy);
-    bool ok = observe(r, bounds, i * dt, p, rpy, p0);
-    if (ok && d->warning[mjWARN_BADQACC].number > 0) {
-      r.stable = false, r.why = "bad qacc (MuJoCo reset) at t = " + std::to_string(i * dt);
-      ok = false;
-    }
-    pose_wall += wallSeconds() - w1, pose_cpu += threadCpuSeconds() - c1;
-    if (!ok) break;
-  }
-  r.wall = wallSeconds() - w0 - pose_wall;
-  r.cpu = threadCpuSeconds() - c0 - pose_cpu;
-  return r;
-}
+using namespace bench;
 
 // ---- comparison -----------------------------------------------------------------------------------
 
 struct Row {
-  std::string engine;  // kMujoco, kMujocoImplicitKd, "ne-pgm", "pbd-pgm"
+  std::string family;  // kMujoco, kMujocoImplicitKd, or one of our configurations ("ne-pgm", ...)
+  const Ours* ours = nullptr;  // our configuration's system, for our rows
   double dt = 0;
   std::vector<Run> runs;  // repeats
   // filled in later
   double wall_per_s = NAN, cpu_per_s = NAN;
   double rms = NAN;  // m
   bool has_rms = false;
-  bool extra = false;  // a convergence check: one run, never the reference
+  bool within = false;  // within 5 % of the family's finest run
+  bool extra = false;   // run once: a convergence check or the finest run, never a candidate for the cheapest
 };
+
+bench::Accuracy accuracyOf(const Run& r) { return {r.stable, std::hypot(r.forward, r.lateral), r.yaw}; }
 
 std::vector<double> parseList(const std::string& text) {  // "0.001,0.002"
   std::vector<double> out;
@@ -392,14 +100,6 @@ std::vector<double> parseList(const std::string& text) {  // "0.001,0.002"
   std::string item;
   while (std::getline(ss, item, ',')) out.push_back(std::stod(item));
   return out;
-}
-
-Row makeRow(const std::string& engine, double dt, bool extra = false) {
-  Row row;
-  row.extra = extra;
-  row.engine = engine;
-  row.dt = dt;
-  return row;
 }
 
 // RMS of ‖p(t) − p_ref(t)‖ over the coarser run's grid (one dt must be a multiple of the other, so
@@ -435,11 +135,14 @@ std::string fmtDt(double dt) {
 struct Args {
   int repeats = 3;
   double duration = 10.0;
-  // Convergence checks: run once each, shown, never the reference.
+  // Run once each, shown; the finest dt of a family is its reference.
   std::vector<double> mujoco_extra_dts = {0.0005}, ours_extra_dts = {0.001};
   std::string out_path = std::string(NMDP_SOURCE_DIR) + "/docs/results/mujoco_a1.md";
   std::string scene_path = std::string(NMDP_SOURCE_DIR) + "/models/scenes/a1_trot_flat.json";
   std::vector<std::string> overrides;  // --set key.path=value, as for nmdp simulate
+  // Our configurations: a label and its integrator.* settings (--ours-config adds one each).
+  std::vector<std::pair<std::string, std::vector<std::string>>> ours_configs = {
+      {"ne-pgm", {"integrator.method=ne-pgm"}}, {"pbd-pgm", {"integrator.method=pbd-pgm"}}};
   std::vector<double> mujoco_dts = {0.001, 0.002, 0.005, 0.01, 0.02, 0.05};
   std::vector<double> ours_dts = {0.005, 0.01, 0.02, 0.03, 0.04, 0.05};
   double damped_kd = 3.0;  // the second scenario's controller.kd (0: no second scenario)
@@ -447,33 +150,36 @@ struct Args {
   bool mujoco_elliptic = false;  // diagnostics: elliptic friction cone
 };
 
+// "integrator.method=ne-pgm;integrator.order=2" → its settings; only integrator.* keys, so that every
+// configuration runs the robot, gains and targets MuJoCo runs.
+std::vector<std::string> parseConfiguration(const std::string& text) {
+  std::vector<std::string> out;
+  std::stringstream ss(text);
+  std::string item;
+  while (std::getline(ss, item, ';'))
+    if (!item.empty()) {
+      if (item.rfind("integrator.", 0) != 0 || item.find('=') == std::string::npos)
+        throw std::runtime_error("--ours-config " + text + ": '" + item + "' is not an integrator.KEY=VALUE setting");
+      out.push_back(item);
+    }
+  if (out.empty()) throw std::runtime_error("--ours-config " + text + ": no setting");
+  return out;
+}
+
 // One scenario: every run, the table and the ratios, as markdown.
 std::string scenario(const Args& a, const std::vector<std::string>& overrides, const std::string& title) {
   const std::string& scene_path = a.scene_path;
   const int repeats = a.repeats;
   const double duration = a.duration;
-  const std::vector<double>&mujoco_dts = a.mujoco_dts, &ours_dts = a.ours_dts, &mujoco_extra_dts = a.mujoco_extra_dts,
-                            &ours_extra_dts = a.ours_extra_dts;
-  // Ours, built as `nmdp simulate` builds the scene.
-  Ours o;
-  nlohmann::json scene_json = loadSceneJson(scene_path);
-  for (const std::string& assignment : overrides) applyOverride(scene_json, assignment, scene_path + ": --set");
-  o.config = parseScene(scene_json, scene_path);
-  o.model = loadUrdf(o.config.urdf, urdfOptionsFor(o.config));
-  validateAgainstModel(o.config, o.model);
-  if (o.config.contact_model.value("type", "") != "coulomb") throw std::runtime_error("the scene's contact model must be coulomb");
-  o.contact_model = makeCoulombModel(o.config.contact_model, ConfigContext{scene_path + ": contacts.model", o.config.base_dir});
+  const std::unique_ptr<Ours> base = buildOurs(scene_path, overrides);
+  const Ours& o = *base;
   const double mu = dynamic_cast<const CoulombModel&>(*o.contact_model).parameters().mu;
-  o.terrain = makeTerrain(o.config.terrain, ConfigContext{scene_path + ": terrain", o.config.base_dir});
-  o.system.model = &o.model;
-  o.system.contacts = contactPointsFor(o.config, o.model);
-  o.system.contact_model = o.contact_model.get();
-  o.system.terrain = o.terrain.get();
-  o.system.gains = gainsFor(o.config, o.model);
-  o.target = gaitFor(o.config, o.model);
-  o.q0 = initialConfiguration(o.config, o.model);
-  o.qd0 = initialVelocity(o.config, o.model);
-  validateSystem(o.system, o.config.integrator);
+  std::vector<std::unique_ptr<Ours>> configurations;
+  for (const auto& [label, settings] : a.ours_configs) {
+    std::vector<std::string> all = overrides;
+    all.insert(all.end(), settings.begin(), settings.end());
+    configurations.push_back(buildOurs(scene_path, all));
+  }
 
   Mujoco mj = buildMujoco(o, mu);
   // Diagnostics only (the tables are with MuJoCo's defaults): stiffer contacts, elliptic cone.
@@ -492,51 +198,50 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
   }
 
   std::vector<Row> rows;
+  auto add_row = [&](const std::string& family, const Ours* ours, double dt, bool extra) {
+    Row row;
+    row.family = family, row.ours = ours, row.dt = dt, row.extra = extra;
+    rows.push_back(std::move(row));
+  };
   for (const char* engine : {kMujoco, kMujocoImplicitKd}) {
-    for (double dt : mujoco_extra_dts) rows.push_back(makeRow(engine, dt, true));
-    for (double dt : mujoco_dts) rows.push_back(makeRow(engine, dt));
+    for (double dt : a.mujoco_extra_dts) add_row(engine, nullptr, dt, true);
+    for (double dt : a.mujoco_dts) add_row(engine, nullptr, dt, false);
   }
-  for (const char* method : {"ne-pgm", "pbd-pgm"}) {
-    for (double dt : ours_extra_dts) rows.push_back(makeRow(method, dt, true));
-    for (double dt : ours_dts) rows.push_back(makeRow(method, dt));
+  for (size_t k = 0; k < a.ours_configs.size(); ++k) {
+    for (double dt : a.ours_extra_dts) add_row(a.ours_configs[k].first, configurations[k].get(), dt, true);
+    for (double dt : a.ours_dts) add_row(a.ours_configs[k].first, configurations[k].get(), dt, false);
   }
-  auto methodOf = [](const std::string& name) { return name == "ne-pgm" ? Method::NePgm : Method::PbdPgm; };
 
-  // Interleaved repeats; a reference run finer than the benchmarked grid is run once.
+  // Interleaved repeats; the rows run once (finer than the benchmarked grid) only in the first.
   for (int rep = 0; rep < repeats; ++rep)
     for (Row& row : rows) {
       if (row.extra && rep > 0) continue;
-      std::fprintf(stderr, "repeat %d: %s dt = %g ...", rep + 1, row.engine.c_str(), row.dt);
-      row.runs.push_back(isMujoco(row.engine)
-                             ? runMujoco(o, mj, row.dt, duration, bounds, row.engine == kMujocoImplicitKd)
-                             : runOurs(o, methodOf(row.engine), row.dt, duration, bounds));
+      std::fprintf(stderr, "repeat %d: %s dt = %g ...", rep + 1, row.family.c_str(), row.dt);
+      row.runs.push_back(isMujoco(row.family) ? runMujoco(o, mj, row.dt, duration, bounds, row.family == kMujocoImplicitKd)
+                                              : runOurs(*row.ours, row.dt, duration, bounds));
       const Run& r = row.runs.back();
       std::fprintf(stderr, " %.3f s wall, forward %.3f m%s%s\n", r.wall, r.forward, r.stable ? "" : ", unstable: ",
                    r.why.c_str());
     }
 
-  // Per row: medians; deviation from the finest run of the same engine/method (its first repeat:
-  // every repeat is bit-identical).
+  // Per row: medians; deviation from the finest run of the same family (its first repeat: every
+  // repeat is bit-identical), and whether it is within 5 % of it.
   std::map<std::string, const Row*> finest;
   for (const Row& row : rows)
-    if (!row.extra && (!finest.count(row.engine) || row.dt < finest[row.engine]->dt)) finest[row.engine] = &row;
+    if (!finest.count(row.family) || row.dt < finest[row.family]->dt) finest[row.family] = &row;
+  std::vector<bench::Configuration> configurations_timed;
   for (Row& row : rows) {
     std::vector<double> wall, cpu;
     for (const Run& r : row.runs)
       if (r.t_end > 0) wall.push_back(r.wall / r.t_end), cpu.push_back(r.cpu / r.t_end);
     row.wall_per_s = median(wall);
     row.cpu_per_s = median(cpu);
-    const Row& ref = *finest[row.engine];
+    const Row& ref = *finest[row.family];
     row.has_rms = rmsDeviation(row.runs.front(), row.dt, ref.runs.front(), ref.dt, row.rms);
+    row.within = bench::withinTolerance(accuracyOf(row.runs.front()), row.has_rms ? row.rms : NAN, accuracyOf(ref.runs.front()));
+    configurations_timed.push_back({isMujoco(row.family) ? "MuJoCo" : "nmdp", row.family, row.dt, row.wall_per_s,
+                                    row.cpu_per_s, row.within, !row.extra});
   }
-
-  // Which MuJoCo runs stay within 5 % of the same configuration's 1 ms run.
-  auto within5 = [&](const Row& row, const Row& ref) {
-    const Run& r = row.runs.front();
-    const double f = ref.runs.front().forward;
-    return r.stable && ref.runs.front().stable && std::abs(r.forward - f) <= 0.05 * std::abs(f) && row.has_rms &&
-           row.rms <= 0.05 * std::abs(f);
-  };
 
   double target_cost = 0;  // s per evaluation of our gait target
   {
@@ -554,20 +259,29 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     std::snprintf(line, sizeof line, fmt, args...);
     md += line;
   };
-  add("A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`models/scenes/a1_trot_flat.json`: floating base, "
+  add("A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`%s`: floating base, "
       "Coulomb μ = %g, the built-in trot, gains kp = %.4g, kd = %.4g on every joint), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
       "or, as \"MuJoCo, implicit kd\", its kd part as implicit joint damping) on the same "
       "robot, PD targets, gains and initial standing pose; one core, %d interleaved repeats (medians), "
       "`bench/bench_mujoco.cpp`.\n\n",
-      o.model.nq, o.model.total_mass, duration, mu, o.system.gains.kp.maxCoeff(), o.system.gains.kd.maxCoeff(),
-      mujocoVersion().c_str(), repeats);
-  add("| engine / method | dt | wall / simulated s | CPU / simulated s | real-time factor | stable? | forward in %g s | "
-      "RMS deviation from own finest run | same, / distance walked | torso height | sub-steps, outer it. / step |\n",
+      o.model.nq, o.model.total_mass, duration, std::filesystem::path(scene_path).filename().c_str(), mu,
+      o.system.gains.kp.maxCoeff(), o.system.gains.kd.maxCoeff(), mujocoVersion().c_str(), repeats);
+  if (a.ours_configs.size() > 2) {
+    md += "Our configurations (each an nmdp family with its own finest run): ";
+    for (size_t k = 0; k < a.ours_configs.size(); ++k) {
+      md += (k ? "; " : "") + std::string("**") + a.ours_configs[k].first + "**:";
+      for (const std::string& s : a.ours_configs[k].second) md += " `" + s + "`";
+    }
+    md += ".\n\n";
+  }
+  add("| engine / configuration | dt | wall / simulated s | CPU / simulated s | real-time factor | stable? | forward in %g s | "
+      "|Δ(x, y)|, yaw | RMS deviation from own finest run | same, / its |Δ(x, y)| | within 5 %% | torso height | "
+      "sub-steps, outer it. / step |\n",
       duration);
-  add("|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---:|\n");
+  add("|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---:|\n");
   for (const Row& row : rows) {
     const Run& r = row.runs.front();
-    const Row& ref = *finest[row.engine];
+    const Row& ref = *finest[row.family];
     const bool is_ref = &ref == &row;
     std::string stable = r.stable ? "yes" : "no: " + r.why;
     char rb[64] = "—", rel[64] = "—";
@@ -575,97 +289,78 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     else if (row.has_rms) {
       std::snprintf(rb, sizeof rb, "%.4f m%s", row.rms, r.stable ? "" : " (until it stopped)");
       if (ref.runs.front().stable)
-        std::snprintf(rel, sizeof rel, "%.1f %%", 100 * row.rms / std::max(1e-9, std::abs(ref.runs.front().forward)));
+        std::snprintf(rel, sizeof rel, "%.1f %%", 100 * row.rms / std::max(1e-9, accuracyOf(ref.runs.front()).displacement));
       else
         std::snprintf(rel, sizeof rel, "— (reference fell)");
     }
     char fwd[64];
     if (r.stable) std::snprintf(fwd, sizeof fwd, "%.3f m", r.forward);
     else std::snprintf(fwd, sizeof fwd, "(%.3f m by t = %.2f s)", r.forward, r.t_end);
+    char dxy[64];
+    std::snprintf(dxy, sizeof dxy, "%.3f m, %+.2f rad", accuracyOf(r).displacement, r.yaw);
     char it[64] = "—";
-    if (!isMujoco(row.engine) && r.steps > 0)
+    if (!isMujoco(row.family) && r.steps > 0)
       std::snprintf(it, sizeof it, "%.2f, %.1f", double(r.substeps) / r.steps, double(r.outer) / r.steps);
     char z[64];
     std::snprintf(z, sizeof z, "%.3f–%.3f m", r.z_min, r.z_max);
-    add("| %s%s | %s | %s | %s | %.1f× | %s | %s | %s | %s | %s | %s |\n", row.engine.c_str(), row.extra ? " (check, 1 run)" : "",
-        fmtDt(row.dt).c_str(), fmtTime(row.wall_per_s).c_str(), fmtTime(row.cpu_per_s).c_str(), 1.0 / row.wall_per_s,
-        stable.c_str(), fwd, rb, rel, z, it);
+    add("| %s%s | %s | %s | %s | %.1f× | %s | %s | %s | %s | %s | %s | %s | %s |\n", row.family.c_str(),
+        row.extra ? " (1 run)" : "", fmtDt(row.dt).c_str(), fmtTime(row.wall_per_s).c_str(), fmtTime(row.cpu_per_s).c_str(),
+        1.0 / row.wall_per_s, stable.c_str(), fwd, dxy, rb, rel, row.within ? "yes" : "no", z, it);
   }
   add("\nStable: no NaN, torso height within [%.3f, %.3f] m (0.5–1.5× the initial %.3f m), |roll|, |pitch| < 1 rad, "
       "every step of ours converged, no MuJoCo bad-qacc reset; an unstable run stops there (its time per simulated "
       "second is over the time it ran). Deviation: RMS over the run's own time grid of the 3-D torso-position "
-      "difference from the same engine's finest run, in metres and relative to that finest run's forward distance. "
+      "difference from the same family's finest run, in metres and relative to that finest run's |Δ(x, y)|. "
       "Real-time factor: simulated / wall time. MuJoCo's times include evaluating our gait target and the PD torque "
       "every step (the target alone: %.2f µs per evaluation, measured here), as ours include its target per sub-step.\n\n",
       bounds.z_low, bounds.z_high, bounds.z_low * 2, 1e6 * target_cost);
+  add("Within 5 %%: the run and its family's finest run are stable, the run's horizontal displacement |Δ(x, y)| is "
+      "within %g %% of the finest run's, its RMS torso deviation is below %g %% of that distance, and its final |yaw| "
+      "is below %g rad. Rows marked (1 run) are run once and are never the cheapest.\n\n",
+      100 * bench::kDistanceTolerance, 100 * bench::kRmsTolerance, bench::kYawMax);
 
-  const Row* ne50 = nullptr;
+  // Speed at equal accuracy: per family its cheapest run within 5 %, then per engine.
+  std::vector<std::string> families;  // in the table's order
   for (const Row& row : rows)
-    if (row.engine == "ne-pgm" && std::abs(row.dt - 0.05) < 1e-12) ne50 = &row;
-  add("Within 5 %%: the run and the same engine's finest run are stable, the run's forward distance is within 5 %% of "
-      "the finest run's, and its RMS torso deviation is below 5 %% of the finest run's forward distance.\n\n");
-  // Per MuJoCo configuration: its largest dt within 5 % of its own 1 ms run, and ne-pgm at 50 ms
-  // against it. The goal is met only against both (the faster of the two is the one to beat).
-  int compared = 0, beaten = 0;
-  for (const char* engine : {kMujoco, kMujocoImplicitKd}) {
-    if (!finest.count(engine)) continue;
-    const Row& mj_ref = *finest[engine];
-    const Row* mj_best = nullptr;
-    for (const Row& row : rows)
-      if (row.engine == engine && within5(row, mj_ref) && (!mj_best || row.dt > mj_best->dt)) mj_best = &row;
-    if (mj_best && ne50) {
-      const double ratio_wall = ne50->wall_per_s / mj_best->wall_per_s, ratio_cpu = ne50->cpu_per_s / mj_best->cpu_per_s;
-      ++compared;
-      if (ratio_wall < 1) ++beaten;
-      add("- %s: largest dt within 5 %% of its %s run **%s** (%s wall per simulated second, forward %.3f m vs %.3f m); "
-          "ne-pgm @ 50 ms / %s @ %s: **%.2f×** wall time (%.2f× CPU time).\n",
-          engine, fmtDt(mj_ref.dt).c_str(), fmtDt(mj_best->dt).c_str(), fmtTime(mj_best->wall_per_s).c_str(),
-          mj_best->runs.front().forward, mj_ref.runs.front().forward, engine, fmtDt(mj_best->dt).c_str(), ratio_wall,
-          ratio_cpu);
-    } else if (!mj_ref.runs.front().stable) {
-      add("- %s: its finest run (%s) is itself not stable (%s): no run of it is a trot to compare with.\n", engine,
-          fmtDt(mj_ref.dt).c_str(), mj_ref.runs.front().why.c_str());
-    } else {
-      add("- %s: no run within 5 %% of its finest run, or ne-pgm at 50 ms was not run.\n", engine);
-    }
-  }
-  if (ne50) {
-    add("- ne-pgm at 50 ms: %s wall per simulated second (%s; forward %.3f m).\n", fmtTime(ne50->wall_per_s).c_str(),
-        ne50->runs.front().stable ? "stable" : "UNSTABLE", ne50->runs.front().forward);
-    if (compared == 0)
-      add("- Speed goal: undefined (no MuJoCo configuration has a stable 1 ms run with a coarser run within 5 %% of it).\n");
+    if (std::find(families.begin(), families.end(), row.family) == families.end()) families.push_back(row.family);
+  for (const std::string& family : families) {
+    const Row* ref = finest[family];
+    const bench::Configuration* best = nullptr;
+    for (const bench::Configuration& c : configurations_timed)
+      if (c.family == family && c.candidate && c.within && (!best || c.wall_per_s < best->wall_per_s)) best = &c;
+    const Run& fr = ref->runs.front();
+    if (best)
+      add("- %s: cheapest within 5 %% of its %s run: %s (%s wall, %s CPU per simulated second).\n", family.c_str(),
+          fmtDt(ref->dt).c_str(), fmtDt(best->dt).c_str(), fmtTime(best->wall_per_s).c_str(), fmtTime(best->cpu_per_s).c_str());
+    else if (!fr.stable)
+      add("- %s: its finest run (%s) is itself not stable (%s): nothing to be accurate to.\n", family.c_str(),
+          fmtDt(ref->dt).c_str(), fr.why.c_str());
     else
-      add("- Speed goal: %s (ne-pgm at 50 ms faster than %d of the %d MuJoCo configurations' largest dt within 5 %%).\n",
-          beaten == compared ? "**met**" : "**NOT met**", beaten, compared);
-    const Row* ne_ref = finest["ne-pgm"];
-    const bool ne_ok = within5(*ne50, *ne_ref);
-    add("- ne-pgm at 50 ms against its own finest run (%s): %s (forward %.3f m vs %.3f m, RMS %.4f m).\n",
-        fmtDt(ne_ref->dt).c_str(), ne_ok ? "within 5 %" : "NOT within 5 %", ne50->runs.front().forward,
-        ne_ref->runs.front().forward, ne50->rms);
+      add("- %s: no timed run within 5 %% of its %s run.\n", family.c_str(), fmtDt(ref->dt).c_str());
   }
-  if (ne50) {
-    std::string raw;
-    for (const Row& row : rows)
-      if (isMujoco(row.engine) && !row.extra) {
-        char b[200];
-        std::snprintf(b, sizeof b, "%s%s %s: %.2f× wall, %.2f× CPU", raw.empty() ? "" : "; ", row.engine.c_str(), fmtDt(row.dt).c_str(),
-                      ne50->wall_per_s / row.wall_per_s, ne50->cpu_per_s / row.cpu_per_s);
-        raw += b;
-        if (!row.runs.front().stable) raw += " (MuJoCo unstable)";
-      }
-    add("- Speed alone, accuracy aside: ne-pgm at 50 ms (%s, %s wall / %s CPU per simulated second) over MuJoCo at "
-        "each dt: %s.\n",
-        ne50->runs.front().stable ? "stable" : "unstable", fmtTime(ne50->wall_per_s).c_str(),
-        fmtTime(ne50->cpu_per_s).c_str(), raw.c_str());
-  }
+  const bench::Configuration* mj_best = bench::cheapestWithin(configurations_timed, "MuJoCo");
+  const bench::Configuration* ours_best = bench::cheapestWithin(configurations_timed, "nmdp");
+  if (mj_best && ours_best)
+    add("- **Speed at equal accuracy**: the cheapest configuration of each engine within 5 %% of its own finest run: "
+        "nmdp %s at %s (%s per simulated second), MuJoCo%s at %s (%s); nmdp / MuJoCo = **%.2f×** wall time (%.2f× "
+        "CPU time); target at most 0.5×: **%s**.\n",
+        ours_best->family.c_str(), fmtDt(ours_best->dt).c_str(), fmtTime(ours_best->wall_per_s).c_str(),
+        mj_best->family == kMujoco ? "" : (" (" + mj_best->family.substr(std::strlen(kMujoco) + 2) + ")").c_str(),
+        fmtDt(mj_best->dt).c_str(), fmtTime(mj_best->wall_per_s).c_str(), ours_best->wall_per_s / mj_best->wall_per_s,
+        ours_best->cpu_per_s / mj_best->cpu_per_s, ours_best->wall_per_s <= 0.5 * mj_best->wall_per_s ? "met" : "not met");
+  else
+    add("- **Speed at equal accuracy**: undefined: %s within 5 %% of its own finest run.\n",
+        !mj_best && !ours_best ? "neither engine has a timed run" : !mj_best ? "MuJoCo has no timed run" : "nmdp has no timed run");
   {
     std::string fine;
     for (const Row& row : rows)
-      if (row.extra || &row == finest[row.engine]) {
+      if (&row == finest[row.family]) {
         const Run& r = row.runs.front();
         char b[200];
-        if (r.stable) std::snprintf(b, sizeof b, "%s%s at %s %.3f m", fine.empty() ? "" : "; ", row.engine.c_str(), fmtDt(row.dt).c_str(), r.forward);
-        else std::snprintf(b, sizeof b, "%s%s at %s falls (%s)", fine.empty() ? "" : "; ", row.engine.c_str(), fmtDt(row.dt).c_str(), r.why.c_str());
+        if (r.stable)
+          std::snprintf(b, sizeof b, "%s%s at %s %.3f m (|Δ(x, y)| %.3f m, yaw %+.2f rad)", fine.empty() ? "" : "; ",
+                        row.family.c_str(), fmtDt(row.dt).c_str(), r.forward, accuracyOf(r).displacement, r.yaw);
+        else std::snprintf(b, sizeof b, "%s%s at %s falls (%s)", fine.empty() ? "" : "; ", row.family.c_str(), fmtDt(row.dt).c_str(), r.why.c_str());
         fine += b;
       }
     add("- Forward distance in %g s at the finest dt of each: %s.\n", duration, fine.c_str());
@@ -686,6 +381,7 @@ int run(int argc, char** argv) {
     else if (!std::strcmp(argv[i], "--mujoco-extra-dts")) a.mujoco_extra_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--ours-extra-dts")) a.ours_extra_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--set")) a.overrides.push_back(argv[i + 1]);
+    else if (!std::strcmp(argv[i], "--ours-config")) a.ours_configs.emplace_back(argv[i + 1], parseConfiguration(argv[i + 1]));
     else if (!std::strcmp(argv[i], "--mujoco-dts")) a.mujoco_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--ours-dts")) a.ours_dts = parseList(argv[i + 1]);
     else if (!std::strcmp(argv[i], "--damped-kd")) a.damped_kd = std::atof(argv[i + 1]);
@@ -694,6 +390,7 @@ int run(int argc, char** argv) {
     else {
       std::fprintf(stderr,
                    "usage: bench_mujoco [--repeats N] [--duration S] [--out FILE] [--scene SCENE.json] [--set key.path=value]...\n"
+                   "                    [--ours-config \"integrator.key=value;...\"]... (another nmdp configuration to compare)\n"
                    "                    [--mujoco-dts S,..] [--ours-dts S,..] [--mujoco-extra-dts S,..] [--ours-extra-dts S,..]\n"
                    "                    [--damped-kd KD (0: skip the second scenario)]\n"
                    "                    diagnostics (not MuJoCo's defaults; flagged in the output): [--mujoco-timeconst T] [--mujoco-elliptic 0|1]\n");

@@ -1,0 +1,117 @@
+"""What is measured of a run and the verdict against its reference (the same case, variant and
+method at 1 ms). Pure functions of the trajectories, so that they can be tested on made-up ones."""
+import json
+import math
+
+import numpy as np
+
+# Stable: the run completed, everything finite, the torso height within [Z_LOW, Z_HIGH] x its start
+# height and the tilt from the vertical, arccos(cos roll cos pitch), below TILT_MAX at every step.
+Z_LOW, Z_HIGH = 0.5, 1.5
+TILT_MAX = 0.5  # rad, about 29 degrees
+# Within 5 %: the acceptance of the step-size evaluation.
+DISTANCE_TOLERANCE = 0.05  # relative to the reference's distance
+RMS_TOLERANCE = 0.05       # RMS torso deviation relative to the reference's distance
+YAW_MAX = 0.3              # rad, |final yaw|
+
+
+def _text(value):
+    if getattr(value, "shape", None) == () and hasattr(value, "item"):
+        value = value.item()
+    if isinstance(value, bytes):
+        value = value.decode("utf-8", errors="replace")
+    return str(value).rstrip("\0").strip()
+
+
+def load_run(path):
+    """time, torso position and rpy, status, the resolved scene and the per-step statistics of a run
+    file (a killed run, still marked by its SWMR writer, opens as a SWMR reader)."""
+    import h5py
+
+    try:
+        f = h5py.File(path, "r")
+    except OSError:
+        f = h5py.File(path, "r", swmr=True)
+    with f:
+        n = int(f["steps"][()]) if "steps" in f else len(f["time"])
+        d = dict(time=np.asarray(f["time"][:n], float), pos=np.asarray(f["base/position"][:n], float),
+                 rpy=np.asarray(f["base/rpy"][:n], float), status=_text(f["status"][()]) if "status" in f else "unknown",
+                 config=json.loads(_text(f.attrs["config"])) if "config" in f.attrs else {})
+        for k in ("wall_time", "outer_iterations", "substeps"):
+            d[k] = np.asarray(f["stats/" + k][:n], float) if "stats/" + k in f else np.full(n, np.nan)
+    return d
+
+
+def motion(d, planar):
+    """Forward x, horizontal displacement |Δ(x, y)|, final yaw (unwrapped, from the start), the
+    stability check and the cost of a trajectory d (time, pos, rpy, status, duration). The distance
+    the verdict compares is |Δ(x, y)| on a floating base and x on a planar one."""
+    t, pos, rpy = d["time"], d["pos"], d["rpy"]
+    finite = np.all(np.isfinite(pos), axis=1) & np.all(np.isfinite(rpy), axis=1)
+    n = len(t) if finite.all() else int(np.argmin(finite))
+    why = []
+    if d.get("status", "complete") != "complete":
+        why.append(f"status '{d['status'][:80]}'")
+    if n < len(t):
+        why.append(f"NaN at t = {t[n]:.3f} s")
+    if n == 0:
+        return dict(stable=False, why="; ".join(why + ["no finite row"]), x=math.nan, dxy=math.nan, yaw=math.nan,
+                    distance=math.nan, t_end=0.0)
+    z, h0 = pos[:n, 2], pos[0, 2]
+    tilt = np.arccos(np.clip(np.cos(rpy[:n, 0]) * np.cos(rpy[:n, 1]), -1, 1))
+    if t[n - 1] < d.get("duration", 0.0) - 1e-9:
+        why.append(f"ended at t = {t[n - 1]:.3f} s")
+    for bad, what in ((z < Z_LOW * h0, f"torso below {Z_LOW:g}x its start height"),
+                      (z > Z_HIGH * h0, f"torso above {Z_HIGH:g}x its start height"),
+                      (tilt > TILT_MAX, f"tilt over {TILT_MAX:g} rad")):
+        if bad.any():
+            why.append(f"{what} at t = {t[int(np.argmax(bad))]:.2f} s")
+    x = float(pos[n - 1, 0] - pos[0, 0])
+    dxy = float(math.hypot(x, pos[n - 1, 1] - pos[0, 1]))
+    yaw = float(np.unwrap(rpy[:n, 2])[-1] - rpy[0, 2])
+    wall = d.get("wall_time", np.full(len(t), np.nan))[1:n]
+    wall = wall[np.isfinite(wall)]
+    return dict(stable=not why, why="; ".join(why), x=x, dxy=dxy, yaw=yaw, distance=x if planar else dxy,
+                t_end=float(t[n - 1]), wall_per_s=float(wall.sum() / t[n - 1]) if len(wall) and t[n - 1] > 0 else math.nan,
+                outer=float(np.nanmean(d["outer_iterations"][1:n])) if "outer_iterations" in d and n > 1 else math.nan)
+
+
+def rms_deviation(run, ref):
+    """RMS over the run's own times (up to the shorter run's end, finite rows only) of the 3-D torso
+    distance from the reference, linearly interpolated."""
+    if run is None or ref is None:
+        return math.nan
+    ok = np.all(np.isfinite(run["pos"]), axis=1)
+    okr = np.all(np.isfinite(ref["pos"]), axis=1)
+    if not ok.any() or not okr.any():
+        return math.nan
+    t, tr = run["time"], ref["time"][okr]
+    sel = ok & (t <= min(t[ok].max(), tr.max()) + 1e-12)
+    diff = np.stack([run["pos"][sel, i] - np.interp(t[sel], tr, ref["pos"][okr, i]) for i in range(3)], axis=1)
+    return float(np.sqrt(np.mean(np.sum(diff ** 2, axis=1))))
+
+
+def verdict(row, ref):
+    """(within, reasons) for a row against its reference row (both from motion(), the row with 'rms'):
+    within 5 % = both stable, the distance within DISTANCE_TOLERANCE of the reference's, the RMS
+    deviation below RMS_TOLERANCE of it and |yaw| below YAW_MAX."""
+    reasons = []
+    if ref is None:
+        return False, ["no reference run"]
+    if not ref["stable"]:
+        reasons.append("the reference is not stable")
+    if not row["stable"]:
+        reasons.append("not stable")
+    scale = abs(ref["distance"])
+    if not (math.isfinite(scale) and scale > 0):
+        reasons.append("the reference does not move")
+        return False, reasons
+    err = abs(row["distance"] - ref["distance"]) / scale
+    if not err <= DISTANCE_TOLERANCE:
+        reasons.append(f"distance off by {100 * err:.1f} %")
+    rel = row.get("rms", math.nan) / scale
+    if not rel < RMS_TOLERANCE:
+        reasons.append(f"RMS deviation {100 * rel:.1f} %")
+    if not abs(row["yaw"]) < YAW_MAX:
+        reasons.append(f"|yaw| {abs(row['yaw']):.2f} rad")
+    return not reasons, reasons
