@@ -427,7 +427,7 @@ TEST(IntegratorConsistency, StepSolutionIsProjectedToTheFullTolerance) {
 
 // ---------------------------------------------------------------------------------------------
 // No heap allocation inside advance() once warmed up, for every method (the zeroth-order ones with
-// both Jacobians), on the standing quadruped.
+// both Jacobians, the first-order ones also with error control), on the standing quadruped.
 TEST(IntegratorConsistency, AdvanceAllocatesNothingAfterWarmUp) {
   test::QuadrupedOnPlane robot;
   const Vec q0 = robot.standing(0.002);
@@ -435,10 +435,16 @@ TEST(IntegratorConsistency, AdvanceAllocatesNothingAfterWarmUp) {
   std::vector<std::pair<const char*, ZerothOrderJacobian>> runs;
   for (const char* name : kAllMethods) runs.emplace_back(name, ZerothOrderJacobian::FiniteDifference);
   for (const char* name : {"ne-zopgm", "pbd-zopgm"}) runs.emplace_back(name, ZerothOrderJacobian::Dropped);
-  for (const auto& [name, zeroth_order] : runs) {
-    SCOPED_TRACE(std::string(name) + " " + zerothOrderJacobianName(zeroth_order));
+  // And with error control, whose estimate and retries must reuse the same buffers.
+  for (const char* name : {"ne-pgm", "pbd-pgm"}) runs.emplace_back(name, ZerothOrderJacobian::FiniteDifference);
+  const size_t first_controlled = runs.size() - 2;
+  for (size_t run = 0; run < runs.size(); ++run) {
+    const auto& [name, zeroth_order] = runs[run];
+    const bool controlled = run >= first_controlled;
+    SCOPED_TRACE(std::string(name) + " " + zerothOrderJacobianName(zeroth_order) + (controlled ? " accuracy 0.05" : ""));
     IntegratorOptions options = optionsFor(name);
     options.zeroth_order_jacobian = zeroth_order;
+    if (controlled) options.accuracy = 0.05;
     const double dt = options.method == Method::NeMdp ? 1e-3 : 0.02;
     StepWorkspace ws(robot.system, options);
     SimulationState state = initialState(robot.system, options, q0, Vec::Zero(q0.size()), dt);

@@ -248,7 +248,7 @@ const std::vector<std::string> kIntegratorKeys = {
     "method", "order", "dt", "adaptive", "min_substep", "kinetic_energy", "epsilon", "tol_w", "eta", "eta_reject", "eta_limited",
     "beta_min", "beta_max", "beta_initial", "adapt_start_penalty", "max_outer_iterations", "projection_tolerance",
     "projection_max_iterations", "projection_backtracking", "warm_start_weights", "predict_first_iterate",
-    "zeroth_order_jacobian"};
+    "zeroth_order_jacobian", "accuracy"};
 const std::vector<std::string> kControllerKeys = {"kp", "kd", "tau_ff", "gait"};
 const std::vector<std::string> kOutputKeys = {"file", "every"};
 const std::vector<std::string> kGaitTypes = {"stand", "trot", "jump", "keyframes"};
@@ -476,6 +476,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
   const std::optional<ZerothOrderJacobian> z = parseZerothOrderJacobian(zo);
   if (!z) (w / "zeroth_order_jacobian").fail("unknown value '" + zo + "'; valid: finite-difference, dropped");
   o.zeroth_order_jacobian = *z;
+  o.accuracy = number(in, "accuracy", o.accuracy, w, atLeast(0), atMost(1));
 
   out = {{"method", methodName(o.method)},
          {"order", o.order},
@@ -498,7 +499,8 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
          {"projection_backtracking", o.projection_backtracking},
          {"warm_start_weights", o.warm_start_weights},
          {"predict_first_iterate", o.predict_first_iterate},
-         {"zeroth_order_jacobian", zerothOrderJacobianName(o.zeroth_order_jacobian)}};
+         {"zeroth_order_jacobian", zerothOrderJacobianName(o.zeroth_order_jacobian)},
+         {"accuracy", o.accuracy}};
 }
 
 void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {

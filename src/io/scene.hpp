@@ -34,7 +34,8 @@
 //                  beta_max, beta_initial, adapt_start_penalty, max_outer_iterations, projection_tolerance,
 //                  projection_max_iterations, projection_backtracking, warm_start_weights,
 //                  predict_first_iterate, and "zeroth_order_jacobian":
-//                  "finite-difference" | "dropped" (finite-difference)}
+//                  "finite-difference" | "dropped" (finite-difference), "accuracy": [0, 1] (0: off;
+//                  error control's relative tolerance, solver/local_error.hpp)}
 //   "controller": {"kp": number | {joint: value}, "kd": same  (defaultPdGains: scaled to the
 //                  robot's mass; a number sets every actuated joint, an object the joints named),
 //                  "tau_ff": {joint: value},

@@ -156,6 +156,7 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
     create(data_[kSub], "/stats/substeps", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
     create(data_[kMinSub], "/stats/min_substep", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
     create(data_[kWall], "/stats/wall_time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
+    create(data_[kErr], "/stats/error_estimate", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
     create(data_[kConv], "/stats/converged", H5T_STD_U8LE, H5T_NATIVE_UINT8, 1, 0, 0);
     create(data_[kTime], "/time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
     extent_ = layout.chunk_rows;
@@ -295,6 +296,7 @@ void TrajectoryWriter::append(double time, const Eigen::VectorXd& q, const Eigen
   stage(data_[kSub], &stats.substeps);
   stage(data_[kMinSub], &stats.min_substep);
   stage(data_[kWall], &stats.wall_time);
+  stage(data_[kErr], &stats.error_estimate);
   stage(data_[kConv], &converged);
   stage(data_[kTime], &time);
   ++rows_;

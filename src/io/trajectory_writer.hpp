@@ -17,6 +17,8 @@
 //   /stats/outer_iterations, /stats/g_evaluations, /stats/substeps   int32 (N)
 //   /stats/min_substep, /stats/wall_time                             float64 (N), seconds
 //   /stats/converged                                                  uint8 (N), 0 or 1
+//   /stats/error_estimate   float64 (N): error control's largest normalized local error of the
+//                           step's sub-steps (0 with integrator.accuracy off)
 //   /status                 scalar fixed-length string (kStatusBytes, NUL-terminated): "running" while
 //                           writing, "complete" after finish(), "failed: <reason>" after fail(),
 //                           "interrupted <how>" after interrupt(); a dataset because it is rewritten
@@ -152,7 +154,7 @@ class TrajectoryWriter {
     size_t row_bytes = 0;
     std::vector<unsigned char> rows;  // flush_every rows not yet written
   };
-  enum Col { kTime, kQ, kQd, kBasePos, kBaseRpy, kWrench, kOuter, kGEval, kSub, kMinSub, kWall, kConv, kNumData };
+  enum Col { kTime, kQ, kQd, kBasePos, kBaseRpy, kWrench, kOuter, kGEval, kSub, kMinSub, kWall, kConv, kErr, kNumData };
 
   void stage(Column& c, const void* row);  // copy into the pending rows
   void writeRows(Column& c);              // write the pending rows in place

@@ -54,6 +54,8 @@ struct Recursion {
   StepStats& stats;
   CancelFlag cancel;
   bool halted = false;  // a failure that halving must not retry (Diverged, Cancelled)
+  bool error_rejected = false;  // error control refused a converged sub-step; retry at suggested_h
+  double suggested_h = 0.0;
   bool closest_recorded = false;  // stats.energy holds a sub-step's balance
 
   bool step(double h) {
@@ -71,6 +73,7 @@ struct Recursion {
     stats.rejected += a.rejected;
     if (a.status == StepStatus::Cancelled) return halt(StepStatus::Cancelled);
     if (a.status == StepStatus::Converged && !energyHolds(h)) return halt(StepStatus::Diverged);
+    if (a.status == StepStatus::Converged && options.accuracy > 0 && !errorHolds(h)) return false;
     if (a.status == StepStatus::Converged) {
       state.beta = beta;
       if (options.adapt_start_penalty && a.first_agreement >= 0) {
@@ -127,6 +130,34 @@ struct Recursion {
     return true;
   }
 
+  int orderOfStep() const { return 1; }
+
+  // Error control: the converged sub-step's local error (solver/local_error.hpp). Above the
+  // tolerance the sub-step is refused (state untouched) unless it is already at min_substep.
+  bool errorHolds(double h) {
+    const StepSolver& solver = ws.solver;
+    const int order = orderOfStep();
+    LocalErrorStep s;
+    s.order = order;
+    s.h = h;
+    s.h_prev = state.h_prev;
+    s.q_before = &state.q;
+    s.q_after = &solver.theta();
+    s.v_before = &state.qd;
+    s.v_after = &solver.velocity();
+    s.v_prev = &state.qd_prev;
+    const double err = ws.local_error.normalized(*system.model, s, options.accuracy);
+    if (!(err <= 1.0) && 0.5 * h >= options.min_substep) {
+      ++stats.error_rejections;
+      error_rejected = true;
+      suggested_h = std::max(LocalError::nextStep(h, std::isfinite(err) ? err : 1e6, order), options.min_substep);
+      return false;
+    }
+    stats.error_estimate = std::max(stats.error_estimate, err);
+    state.h_next = std::max(LocalError::nextStep(h, err, order), options.min_substep);
+    return true;
+  }
+
   void accept(double h) {
     const StepSolver& solver = ws.solver;
     state.q_prev.swap(state.q);
@@ -149,6 +180,33 @@ struct Recursion {
     stats.min_substep = stats.substeps == 1 ? h : std::min(stats.min_substep, h);
   }
 };
+
+// Error control's cover of [t, t + dt]: sub-steps of the controller's size, never above dt, the
+// last one shortened (or the last two evened out) to land on t + dt.
+bool controlledSteps(Recursion& recursion, SimulationState& state, double dt, const IntegratorOptions& options) {
+  const double t_end = state.time + dt;
+  // A remainder below this share of dt is round-off of the sub-steps' sum, not time left.
+  constexpr double kLanded = 1e-9;
+  // Stretch a sub-step by up to this factor rather than leave a sliver for the next.
+  constexpr double kStretch = 1.2;
+  bool retry = false;  // the last sub-step was rejected: its successor may not be stretched back
+  while (t_end - state.time > kLanded * dt) {
+    const double remaining = t_end - state.time;
+    double h = state.h_next > 0 ? std::min(state.h_next, dt) : dt;
+    if (h * (retry ? 1.0 : kStretch) >= remaining)
+      h = remaining;
+    else if (2 * h > remaining)
+      h = 0.5 * remaining;
+    recursion.error_rejected = false;
+    retry = false;
+    if (recursion.step(h)) continue;
+    if (!recursion.error_rejected || recursion.halted) return false;
+    state.h_next = recursion.suggested_h;
+    retry = true;
+  }
+  state.time = t_end;
+  return true;
+}
 
 }  // namespace
 
@@ -241,9 +299,10 @@ void validateSystem(const System& system, const IntegratorOptions& options) {
   if (!(options.min_substep > 0) || !(options.eta > 1) || !(options.eta_reject > 1) || !(options.eta_limited > 1) ||
       !(options.beta_min > 0) || !(options.beta_max >= options.beta_min) || !(options.tol_w > 0) ||
       !(options.epsilon > 0) || options.max_outer_iterations < 1 || options.projection_max_iterations < 1 ||
-      !(options.projection_tolerance > 0) || !(options.energy_tolerance >= 0))
+      !(options.projection_tolerance > 0) || !(options.energy_tolerance >= 0) ||
+      !(options.accuracy >= 0 && options.accuracy < std::numeric_limits<double>::infinity()))
     throw std::invalid_argument("integrator: options out of range (need min_substep, tol_w, epsilon, beta_min, "
-                                "projection_tolerance > 0, energy_tolerance >= 0, eta, eta_reject, eta_limited > 1, "
+                                "projection_tolerance > 0, energy_tolerance >= 0, accuracy finite and >= 0, eta, eta_reject, eta_limited > 1, "
                                 "beta_max >= beta_min, iteration limits >= 1)");
 }
 
@@ -262,7 +321,7 @@ SimulationState initialState(const System& system, const IntegratorOptions& opti
 }
 
 StepWorkspace::StepWorkspace(const System& system, const IntegratorOptions& options)
-    : solver((validateSystem(system, options), system)), energy_data(*system.model) {
+    : solver((validateSystem(system, options), system)), energy_data(*system.model), local_error(*system.model) {
   const int n = system.model->nq;
   contact_wrench.assign(system.contacts.size(), Vec6::Zero());
   impulse.assign(system.contacts.size(), Vec6::Zero());
@@ -286,7 +345,7 @@ StepStats advance(const System& system, const IntegratorOptions& options, const 
   rebaseIfNeeded(*system.model, workspace.solver.residual().data, state);
   const double t0 = state.time;
   Recursion recursion{system, options, targets, state, workspace, stats, cancel};
-  const bool ok = recursion.step(dt);
+  const bool ok = options.accuracy > 0 ? controlledSteps(recursion, state, dt, options) : recursion.step(dt);
   stats.converged = ok;
   if (ok) stats.status = StepStatus::Converged;
   const double elapsed = state.time - t0;

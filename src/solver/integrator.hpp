@@ -13,6 +13,11 @@
 // result, not the solver's progress, and an explicit method past its stability limit (ne-mdp, whose
 // blow-up the paper reports) must fail there rather than be rescued by smaller steps. A raised
 // CancelFlag ends the step with StepStatus::Cancelled at the next sub-step or outer iteration.
+//
+// With error control (IntegratorOptions::accuracy > 0) a converged sub-step is also judged by its
+// local error estimate (solver/local_error.hpp): above the tolerance it is rejected and retried at
+// the size the controller gives; the step of dt is then a sequence of such sub-steps, each of them
+// split as above if it fails, the last one landing on t + dt.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -20,6 +25,7 @@
 #include "control/pd_target_source.hpp"
 #include "solver/energy_balance.hpp"
 #include "solver/integrator_types.hpp"
+#include "solver/local_error.hpp"
 #include "solver/step_solver.hpp"
 
 namespace nmdp {
@@ -43,6 +49,7 @@ struct StepWorkspace {
   MechanicalEnergy state_energy;
   Eigen::VectorXd state_energy_q, state_energy_qd;
   Mat3 state_energy_chart = Mat3::Zero();
+  LocalError local_error;  // error control's estimator
 };
 
 // Advances `state` by dt (or as far as it got, on failure). Returns the status and statistics.

@@ -122,6 +122,11 @@ struct IntegratorOptions {
   // largest excess (about a third of it) and ne-mdp's first unphysical step past its stability
   // limit (about twice it). Infinity disables the check.
   double energy_tolerance = 0.5;
+  // Error control (solver/local_error.hpp): a relative tolerance on each sub-step's estimated local
+  // position error. Above 0, a step of dt is covered by sub-steps a standard controller sizes (never
+  // above dt, the output still every dt); the failure halving of Algorithm 2 stays. 0: off, every
+  // step is dt unless it fails.
+  double accuracy = 0.0;
 };
 
 // A request to stop that the integrator polls between sub-steps and between the outer iterations
@@ -160,6 +165,8 @@ struct SimulationState {
   double beta = 1e-4;      // trust-region penalty carried over between steps (DESIGN.md 3)
   double beta_start = 1e-4;  // the least β the next step starts from (IntegratorOptions::adapt_start_penalty)
   Eigen::VectorXd w;       // contact weights of the last sub-step (Σ K_c), the warm start
+  Eigen::VectorXd qd_prev; // velocity one (sub-)step earlier, same chart
+  double h_next = 0.0;     // error control: the next sub-step's size (0: none chosen yet)
 };
 
 // Starts at (q, q̇) at time 0; q_prev = q − h q̇ so that PBD starts with the same velocity;
@@ -200,6 +207,10 @@ struct StepStats {
   int substeps = 0;          // accepted sub-steps (1 when no split happened)
   double min_substep = 0.0;  // smallest accepted sub-step (s)
   double wall_time = 0.0;    // s
+  // Error control (IntegratorOptions::accuracy): the largest normalized local error of the accepted
+  // sub-steps (≤ 1 unless a sub-step at min_substep had to be accepted), and the sub-steps it rejected.
+  double error_estimate = 0.0;
+  int error_rejections = 0;
   // The sub-step closest to the divergence check's limit (largest excess − tolerance), or the one
   // that failed it.
   StepEnergy energy;
