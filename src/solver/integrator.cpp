@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "multibody/kinematics.hpp"
+#include "solver/bdf2.hpp"
 
 namespace nmdp {
 
@@ -64,13 +65,20 @@ struct Recursion {
     StepSolver& solver = ws.solver;
     const Eigen::VectorXd& w_start = options.warm_start_weights ? state.w : ws.zero_weights;
     // β carries over from accepted steps only: a failed attempt leaves it where it started.
-    double beta = options.adapt_start_penalty ? std::max(state.beta, state.beta_start) : state.beta;
-    const StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, beta, cancel);
-    stats.outer_iterations += a.outer_iterations;
-    stats.g_evaluations += a.g_evaluations;
-    stats.projections += a.projections;
-    stats.newton_iterations += a.newton_iterations;
-    stats.rejected += a.rejected;
+    const double beta_start = options.adapt_start_penalty ? std::max(state.beta, state.beta_start) : state.beta;
+    double beta = beta_start;
+    StepAttempt a = solver.attempt(system, options, state, h, ws.target, w_start, beta, cancel);
+    count(a);
+    if (a.status == StepStatus::Converged && options.order == 2 && state.second_order_history && touchesDown()) {
+      // A BDF2 step across an impact carries the position's extrapolation q̂ past the contact that
+      // stopped the velocity (the body sinks by c·h·v); retake it at first order (and the next one,
+      // accept() clears the history), as a multistep method restarts at a discontinuity.
+      state.second_order_history = false;
+      ++stats.first_order_restarts;
+      beta = beta_start;
+      a = solver.attempt(system, options, state, h, ws.target, w_start, beta, cancel);
+      count(a);
+    }
     if (a.status == StepStatus::Cancelled) return halt(StepStatus::Cancelled);
     if (a.status == StepStatus::Converged && !energyHolds(h)) return halt(StepStatus::Diverged);
     if (a.status == StepStatus::Converged && options.accuracy > 0 && !errorHolds(h)) return false;
@@ -92,6 +100,31 @@ struct Recursion {
       return false;
     }
     return step(0.5 * h) && !halted && step(0.5 * h);
+  }
+
+  void count(const StepAttempt& a) {
+    stats.outer_iterations += a.outer_iterations;
+    stats.g_evaluations += a.g_evaluations;
+    stats.projections += a.projections;
+    stats.newton_iterations += a.newton_iterations;
+    stats.rejected += a.rejected;
+  }
+
+  // Whether a contact wrench carries load: a force above a tenth of the contact's even share of the
+  // robot's weight (m·1 m/s² without gravity). Smooth contact models let a foot in the air push
+  // with a small force (the Coulomb cone's kζ, 0.1 N by default); that is no impact.
+  bool carriesLoad(const Vec6& f) const {
+    constexpr double kShareOfEvenLoad = 0.1;
+    const Model& model = *system.model;
+    const double weight = model.total_mass * std::max(model.gravity.norm(), 1.0);
+    return f.tail<3>().norm() > kShareOfEvenLoad * weight / static_cast<double>(system.contacts.size());
+  }
+
+  // Whether the solved sub-step puts load on a contact that carried none in the sub-step before.
+  bool touchesDown() const {
+    for (size_t c = 0; c < state.contact_active.size(); ++c)
+      if (!state.contact_active[c] && carriesLoad(ws.solver.contactWrench(static_cast<int>(c)))) return true;
+    return false;
   }
 
   bool halt(StepStatus status) {
@@ -130,13 +163,16 @@ struct Recursion {
     return true;
   }
 
-  int orderOfStep() const { return 1; }
+  // The order the sub-step of size h from the current state is taken at (solver/bdf2.hpp).
+  int orderOfStep(double h) const {
+    return options.order == 2 && secondOrderStepCoefficients(state, h).extrapolation != 0.0 ? 2 : 1;
+  }
 
   // Error control: the converged sub-step's local error (solver/local_error.hpp). Above the
   // tolerance the sub-step is refused (state untouched) unless it is already at min_substep.
   bool errorHolds(double h) {
     const StepSolver& solver = ws.solver;
-    const int order = orderOfStep();
+    const int order = orderOfStep(h);
     LocalErrorStep s;
     s.order = order;
     s.h = h;
@@ -165,15 +201,23 @@ struct Recursion {
     state.qd_prev.swap(state.qd);
     state.qd = solver.velocity();
     state.h_prev = h;
-    state.second_order_history = true;
     state.time += h;
     state.w = solver.weights();
-    bool in_contact = false;
+    bool in_contact = false, touchdown = false;
     for (size_t c = 0; c < ws.impulse.size(); ++c) {
       const Vec6 f = solver.contactWrench(static_cast<int>(c));
       ws.impulse[c] += h * f;
       in_contact = in_contact || !f.isZero(0.0);
+      const bool active = carriesLoad(f);
+      touchdown = touchdown || (active && !state.contact_active[c]);
+      state.contact_active[c] = active ? 1 : 0;
     }
+    // The impact of a compliant contact at a coarse step ends within the sub-step after the
+    // touchdown: the two sub-steps after it are first order, so that BDF2 restarts from velocities
+    // on the far side of the jump.
+    constexpr int kRestartSubsteps = 2;
+    state.substeps_since_touchdown = touchdown ? 0 : std::min(state.substeps_since_touchdown + 1, kRestartSubsteps);
+    state.second_order_history = state.substeps_since_touchdown >= kRestartSubsteps;
     ws.substep_sizes.push_back(h);
     ws.substep_in_contact.push_back(in_contact ? 1 : 0);
     ++stats.substeps;
@@ -314,6 +358,8 @@ SimulationState initialState(const System& system, const IntegratorOptions& opti
   s.q_prev = q - h * qd;
   s.qd_prev = qd;
   s.h_prev = h;
+  s.contact_active.assign(system.contacts.size(), 0);
+  s.substeps_since_touchdown = 2;
   s.beta = s.beta_start = options.beta_initial;
   const int K = (system.contacts.empty() || !system.contact_model) ? 0 : system.contact_model->vertexCount();
   s.w.setZero(static_cast<Eigen::Index>(system.contacts.size()) * K);
@@ -343,6 +389,7 @@ StepStats advance(const System& system, const IntegratorOptions& options, const 
   workspace.substep_in_contact.clear();
   for (Vec6& i : workspace.impulse) i.setZero();
   rebaseIfNeeded(*system.model, workspace.solver.residual().data, state);
+  if (state.contact_active.size() != system.contacts.size()) state.contact_active.assign(system.contacts.size(), 0);
   const double t0 = state.time;
   Recursion recursion{system, options, targets, state, workspace, stats, cancel};
   const bool ok = options.accuracy > 0 ? controlledSteps(recursion, state, dt, options) : recursion.step(dt);

@@ -3,6 +3,7 @@
 #pragma once
 #include <Eigen/Core>
 #include <csignal>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -158,14 +159,22 @@ struct SimulationState {
   Eigen::VectorXd qd_prev;  // velocity one (sub-)step earlier (BDF2), same chart
   double h_prev = 0.0;     // size of that (sub-)step
   // Whether (q_prev, qd_prev, h_prev) is an accepted (sub-)step in the current chart that a
-  // second-order step may build on: false at the start and after a chart rebase (the base angle
-  // rates are chart-dependent), true after every accepted sub-step.
+  // second-order step may build on: false at the start, after a chart rebase (the base angle rates
+  // are chart-dependent) and after a sub-step in which a contact touched down (see contact_active);
+  // true after every other accepted sub-step.
   bool second_order_history = false;
+  // Per contact: whether it carried force in the last sub-step. A contact that starts to carry force
+  // is an impact, a jump of the velocity inside the sub-step. BDF2 across it would carry the
+  // position's extrapolation past the contact, and BDF2 after it would extrapolate the jump into a
+  // rebound; so at order 2 a sub-step in which a contact touches down is retaken at first order, and
+  // so are the two after it (a compliant contact's impact at a coarse step ends within the next),
+  // as multistep methods restart at a discontinuity.
+  std::vector<std::uint8_t> contact_active;
+  int substeps_since_touchdown = 2;  // accepted sub-steps since the last touchdown (saturates at 2)
   Mat3 base_chart = Mat3::Identity();  // floating base reference orientation (Data::base_chart)
   double beta = 1e-4;      // trust-region penalty carried over between steps (DESIGN.md 3)
   double beta_start = 1e-4;  // the least β the next step starts from (IntegratorOptions::adapt_start_penalty)
   Eigen::VectorXd w;       // contact weights of the last sub-step (Σ K_c), the warm start
-  Eigen::VectorXd qd_prev; // velocity one (sub-)step earlier, same chart
   double h_next = 0.0;     // error control: the next sub-step's size (0: none chosen yet)
 };
 
@@ -211,6 +220,8 @@ struct StepStats {
   // sub-steps (≤ 1 unless a sub-step at min_substep had to be accepted), and the sub-steps it rejected.
   double error_estimate = 0.0;
   int error_rejections = 0;
+  // Order 2: sub-steps retaken at first order because a contact touched down in them.
+  int first_order_restarts = 0;
   // The sub-step closest to the divergence check's limit (largest excess − tolerance), or the one
   // that failed it.
   StepEnergy energy;
