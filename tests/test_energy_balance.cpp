@@ -44,7 +44,7 @@ TEST(EnergyBalance, AFallingBoxLosesWhatBackwardEulerDissipates) {
 TEST(EnergyBalance, WhatTheControllerCanSupplyByHand) {
   QuadrupedOnPlane quadruped;
   const Model& model = quadruped.model;
-  PdGains gains = defaultPdGains(model);
+  PdGains gains = massScaledPdGains(model);
   const int j = model.dofIndex(model.dof_names.back());
   gains.kp.setZero();
   gains.kd.setZero();

@@ -565,7 +565,7 @@ DissipationCheck slideUnderPd(const char* method, KineticEnergyMeasure measure) 
   system.contacts = {contact};
   system.contact_model = &contact_model;
   system.terrain = &terrain;
-  system.gains = defaultPdGains(model);
+  system.gains = massScaledPdGains(model);
   system.gains.kp.setZero();
   system.gains.kd.setZero();
   system.gains.kp[0] = 2000.0;
@@ -656,7 +656,7 @@ LandingOutcome dropFootIntoSand(const char* method, double h) {
   system.contacts = {foot};
   system.contact_model = sand.get();
   system.terrain = &terrain;
-  system.gains = defaultPdGains(model);  // all zero: every coordinate is a base coordinate
+  system.gains = massScaledPdGains(model);  // all zero: every coordinate is a base coordinate
   IntegratorOptions options;
   setMethod(options, method);
   options.kinetic_energy = KineticEnergyMeasure::FullBodyPd;
