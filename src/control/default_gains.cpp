@@ -49,11 +49,6 @@ GainInertia gainInertia(const Model& model, const Eigen::VectorXd& q) {
   }
 
   out.total = out.subtree + out.load;
-  double smallest = 0.0;
-  for (int j = 0; j < model.nq; ++j)
-    if (!model.bodies[j].is_base && out.total[j] > 0.0 && (smallest == 0.0 || out.total[j] < smallest)) smallest = out.total[j];
-  for (int j = 0; j < model.nq; ++j)
-    if (!model.bodies[j].is_base && !(out.total[j] > 0.0)) out.total[j] = smallest;
   return out;
 }
 

@@ -17,8 +17,8 @@
 // of a millisecond on A1. nmdp's stable PD is implicit; in MuJoCo, K_d belongs in the joints' damping.
 //
 // Fallbacks, so that every robot that loads gets gains: a fixed base carries no load (I_j = H_jj);
-// a robot without feet gets H_jj alone; a joint that moves no mass (I_j = 0) gets the smallest
-// positive I_j of the robot, so that its step stays solvable; base coordinates get zero.
+// a robot without feet gets H_jj alone; base coordinates get zero. H_jj > 0 on every actuated joint
+// (the URDF loader refuses a joint that moves no mass and has no armature), so every gain is positive.
 #pragma once
 #include <Eigen/Core>
 
@@ -35,7 +35,7 @@ constexpr double kDefaultGainDampingRatio = 1.0;  // ζ: critical damping
 struct GainInertia {
   Eigen::VectorXd subtree;  // H_jj(q)
   Eigen::VectorXd load;     // Σ_f (m / n) ‖∂p_f/∂θ_j‖²
-  Eigen::VectorXd total;    // I_j the gains use: subtree + load, after the zero-inertia fallback
+  Eigen::VectorXd total;    // I_j the gains use: subtree + load
   int feet = 0;             // n (0: no load term)
 };
 
