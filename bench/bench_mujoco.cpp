@@ -19,8 +19,8 @@
 // implicitly, and only kp (q* − q) + kd q̇* + τ_ff in qfrc_applied. The speed goal is judged against
 // the faster of the two configurations' largest dt within 5 % of their own 1 ms run.
 //
-// Two scenarios in one run: the scene as it is, and the same with controller.kd raised
-// (--damped-kd, default 3), because with the scene's kd neither engine's fine-dt run keeps trotting.
+// The scene as it is (its default gains: control/default_gains.hpp), and with --damped-kd KD a
+// second scenario with every joint's kd set to KD.
 //
 // Per run: wall time and this thread's CPU time per simulated second (median over --repeats
 // interleaved repeats, one core), stability, forward distance, and the RMS torso-position
@@ -442,10 +442,18 @@ struct Args {
   std::vector<std::string> overrides;  // --set key.path=value, as for nmdp simulate
   std::vector<double> mujoco_dts = {0.001, 0.002, 0.005, 0.01, 0.02, 0.05};
   std::vector<double> ours_dts = {0.005, 0.01, 0.02, 0.03, 0.04, 0.05};
-  double damped_kd = 3.0;  // the second scenario's controller.kd (0: no second scenario)
+  double damped_kd = 0.0;  // the second scenario's controller.kd (0: no second scenario)
   double mujoco_timeconst = 0;  // > 0: MuJoCo contact solref time constant (diagnostics; default 0.02)
   bool mujoco_elliptic = false;  // diagnostics: elliptic friction cone
 };
+
+// The smallest entry of a gain vector over the actuated coordinates (base coordinates hold zeros).
+double actuatedMin(const Model& model, const Eigen::VectorXd& gain) {
+  double out = INFINITY;
+  for (int i = 0; i < model.nq; ++i)
+    if (!model.bodies[i].is_base) out = std::min(out, gain[i]);
+  return out;
+}
 
 // One scenario: every run, the table and the ratios, as markdown.
 std::string scenario(const Args& a, const std::vector<std::string>& overrides, const std::string& title) {
@@ -555,11 +563,12 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     md += line;
   };
   add("A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`models/scenes/a1_trot_flat.json`: floating base, "
-      "Coulomb μ = %g, the built-in trot, gains kp = %.4g, kd = %.4g on every joint), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
+      "Coulomb μ = %g, the built-in trot, gains kp %.4g–%.4g, kd %.4g–%.4g over the joints), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
       "or, as \"MuJoCo, implicit kd\", its kd part as implicit joint damping) on the same "
       "robot, PD targets, gains and initial standing pose; one core, %d interleaved repeats (medians), "
       "`bench/bench_mujoco.cpp`.\n\n",
-      o.model.nq, o.model.total_mass, duration, mu, o.system.gains.kp.maxCoeff(), o.system.gains.kd.maxCoeff(),
+      o.model.nq, o.model.total_mass, duration, mu, actuatedMin(o.model, o.system.gains.kp), o.system.gains.kp.maxCoeff(),
+      actuatedMin(o.model, o.system.gains.kd), o.system.gains.kd.maxCoeff(),
       mujocoVersion().c_str(), repeats);
   add("| engine / method | dt | wall / simulated s | CPU / simulated s | real-time factor | stable? | forward in %g s | "
       "RMS deviation from own finest run | same, / distance walked | torso height | sub-steps, outer it. / step |\n",
