@@ -67,7 +67,7 @@ RunResult run(const Model& model, const Configuration& configuration, double dt,
   system.contacts = footContactPoints(model);
   system.contact_model = &contact_model;
   system.terrain = &terrain;
-  system.gains = defaultPdGains(model);
+  system.gains = massScaledPdGains(model);
   IntegratorOptions options;
   options.method = configuration.method;
   options.kinetic_energy = configuration.kinetic_energy;

@@ -25,8 +25,8 @@
 // "integrator.method=ne-pgm;integrator.order=2"), so that later integrator features are measured
 // without changing this file.
 //
-// Two scenarios in one run: the scene as it is, and the same with controller.kd raised
-// (--damped-kd, default 3), because with the scene's kd neither engine's fine-dt run keeps trotting.
+// The scene as it is (its default gains: control/default_gains.hpp), and with --damped-kd KD a
+// second scenario with every joint's kd set to KD.
 //
 // Per run: wall time and this thread's CPU time per simulated second (median over --repeats
 // interleaved repeats, one core), stability, forward distance, and the RMS torso-position
@@ -145,7 +145,7 @@ struct Args {
       {"ne-pgm", {"integrator.method=ne-pgm"}}, {"pbd-pgm", {"integrator.method=pbd-pgm"}}};
   std::vector<double> mujoco_dts = {0.001, 0.002, 0.005, 0.01, 0.02, 0.05};
   std::vector<double> ours_dts = {0.005, 0.01, 0.02, 0.03, 0.04, 0.05};
-  double damped_kd = 3.0;  // the second scenario's controller.kd (0: no second scenario)
+  double damped_kd = 0.0;  // the second scenario's controller.kd (0: no second scenario)
   double mujoco_timeconst = 0;  // > 0: MuJoCo contact solref time constant (diagnostics; default 0.02)
   bool mujoco_elliptic = false;  // diagnostics: elliptic friction cone
 };
@@ -163,6 +163,14 @@ std::vector<std::string> parseConfiguration(const std::string& text) {
       out.push_back(item);
     }
   if (out.empty()) throw std::runtime_error("--ours-config " + text + ": no setting");
+  return out;
+}
+
+// The smallest entry of a gain vector over the actuated coordinates (base coordinates hold zeros).
+double actuatedMin(const Model& model, const Eigen::VectorXd& gain) {
+  double out = INFINITY;
+  for (int i = 0; i < model.nq; ++i)
+    if (!model.bodies[i].is_base) out = std::min(out, gain[i]);
   return out;
 }
 
@@ -260,12 +268,13 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     md += line;
   };
   add("A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`%s`: floating base, "
-      "Coulomb μ = %g, the built-in trot, gains kp = %.4g, kd = %.4g on every joint), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
+      "Coulomb μ = %g, the built-in trot, gains kp %.4g–%.4g, kd %.4g–%.4g over the joints), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
       "or, as \"MuJoCo, implicit kd\", its kd part as implicit joint damping) on the same "
       "robot, PD targets, gains and initial standing pose; one core, %d interleaved repeats (medians), "
       "`bench/bench_mujoco.cpp`.\n\n",
       o.model.nq, o.model.total_mass, duration, std::filesystem::path(scene_path).filename().c_str(), mu,
-      o.system.gains.kp.maxCoeff(), o.system.gains.kd.maxCoeff(), mujocoVersion().c_str(), repeats);
+      actuatedMin(o.model, o.system.gains.kp), o.system.gains.kp.maxCoeff(), actuatedMin(o.model, o.system.gains.kd),
+      o.system.gains.kd.maxCoeff(), mujocoVersion().c_str(), repeats);
   if (a.ours_configs.size() > 2) {
     md += "Our configurations (each an nmdp family with its own finest run): ";
     for (size_t k = 0; k < a.ours_configs.size(); ++k) {

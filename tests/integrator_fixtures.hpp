@@ -22,7 +22,7 @@ struct BoxOnPlane {
   System system;
   explicit BoxOnPlane(bool with_contacts, const CoulombParameters& params = {}) : contact_model(params) {
     system.model = &model;
-    system.gains = defaultPdGains(model);  // all zero: every coordinate is a base coordinate
+    system.gains = massScaledPdGains(model);  // all zero: every coordinate is a base coordinate
     if (with_contacts) {
       for (double sx : {-1.0, 1.0})
         for (double sy : {-1.0, 1.0}) {
@@ -62,7 +62,7 @@ struct QuadrupedOnPlane {
     system.contacts = footContactPoints(model);
     system.contact_model = model_override ? model_override : &contact_model;
     system.terrain = &terrain;
-    system.gains = defaultPdGains(model);
+    system.gains = massScaledPdGains(model);
   }
   // Foot clearances φ(c) − r at q (negative: penetration).
   Eigen::VectorXd clearances(const Eigen::VectorXd& q) const {

@@ -17,6 +17,7 @@ namespace {
 TEST(EnergyBalance, AFallingBoxLosesWhatBackwardEulerDissipates) {
   BoxOnPlane box(false);
   IntegratorOptions options;
+  options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   StepWorkspace ws(box.system, options);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(box.model.nq), qd = Eigen::VectorXd::Zero(box.model.nq);
   q[box.model.dofIndex("base_z")] = 1.0;
@@ -44,7 +45,7 @@ TEST(EnergyBalance, AFallingBoxLosesWhatBackwardEulerDissipates) {
 TEST(EnergyBalance, WhatTheControllerCanSupplyByHand) {
   QuadrupedOnPlane quadruped;
   const Model& model = quadruped.model;
-  PdGains gains = defaultPdGains(model);
+  PdGains gains = massScaledPdGains(model);
   const int j = model.dofIndex(model.dof_names.back());
   gains.kp.setZero();
   gains.kd.setZero();
@@ -92,6 +93,7 @@ TEST(EnergyBalance, WhatTheControllerCanSupplyByHand) {
 double largestRatio(Method method, const PdTargetSource& target, QuadrupedOnPlane& quadruped, double dt, double duration,
                     int* failed) {
   IntegratorOptions options;
+  options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   options.method = method;
   StepWorkspace ws(quadruped.system, options);
   const StandingPose pose = standingPose(quadruped.model, identifyQuadrupedLegs(quadruped.model), {});
@@ -131,6 +133,7 @@ TEST(EnergyBalance, AnExplicitStepPastItsLimitIsStoppedWhileStillFinite) {
   QuadrupedOnPlane quadruped;
   const KeyframePdTarget trot = makeTrotTarget(quadruped.model);
   IntegratorOptions options;
+  options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   options.method = Method::NeMdp;
   StepWorkspace ws(quadruped.system, options);
   const StandingPose pose = standingPose(quadruped.model, identifyQuadrupedLegs(quadruped.model), {});
@@ -173,6 +176,7 @@ TEST(EnergyBalance, ARaisedCancelFlagEndsTheStepFromInside) {
   const StandingPose pose = standingPose(quadruped.model, identifyQuadrupedLegs(quadruped.model), {});
   for (Method method : {Method::NePgm, Method::PbdZopgm, Method::NeMdp}) {
     IntegratorOptions options;
+    options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
     options.method = method;
     // ne-mdp is explicit and diverges at dt 0.05 (the test above): it gets a step it can take.
     const double dt = method == Method::NeMdp ? 0.005 : 0.05;

@@ -1,4 +1,4 @@
-// Foot detection (detectFeet), the STL reader, and the "feet" key of `nmdp inspect`.
+// Foot detection (detectFeet), the STL reader, and the "feet" and "default_gains" keys of `nmdp inspect`.
 #include <array>
 #include <cmath>
 #include <cstdio>
@@ -7,6 +7,8 @@
 #include <sstream>
 
 #include "common/input_error.hpp"
+#include "control/default_gains.hpp"
+#include "control/gait.hpp"
 #include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/stl_mesh.hpp"
@@ -408,6 +410,33 @@ TEST(InspectFeet, QuadrupedJsonHasTheFeetKey) {
     EXPECT_NEAR(f["leg_axis"][2].get<double>(), 1.0, 1e-12);  // toward the knee, the foot link's +z
   }
   expectFeetKey(runInspect("'" + quadrupedUrdf() + "' --base fixed"), {"FL_foot", "FR_foot", "RL_foot", "RR_foot"}, 0.02, 0.0);
+}
+
+// `nmdp inspect` prints the default gains a scene gets: at the built-in gaits' standing pose, per
+// actuated joint, with the rule, its frequency and damping ratio.
+TEST(InspectFeet, QuadrupedJsonHasTheDefaultGains) {
+  const nlohmann::json out = runInspect("'" + quadrupedUrdf() + "'");
+  ASSERT_TRUE(out.contains("default_gains"));
+  const nlohmann::json& g = out["default_gains"];
+  EXPECT_EQ(g.at("frequency_hz").get<double>(), kDefaultGainFrequencyHz);
+  EXPECT_EQ(g.at("damping_ratio").get<double>(), kDefaultGainDampingRatio);
+  EXPECT_NE(g.at("rule").get<std::string>().find("H_jj"), std::string::npos);
+  EXPECT_EQ(g.at("pose").get<std::string>(), "standing pose of the built-in gaits");
+  EXPECT_EQ(g.at("feet").get<int>(), 4);
+  const Model model = loadUrdf(quadrupedUrdf());
+  const PdGains expected = defaultPdGains(model, standingPose(model, identifyQuadrupedLegs(model), {}).q);
+  ASSERT_EQ(g.at("joints").size(), 12u);
+  for (const auto& j : g.at("joints")) {
+    const int i = model.dofIndex(j.at("joint").get<std::string>());
+    ASSERT_GE(i, 0) << j.dump();
+    EXPECT_EQ(j.at("kp").get<double>(), expected.kp[i]) << j.dump();  // printed with round-trip precision
+    EXPECT_EQ(j.at("kd").get<double>(), expected.kd[i]) << j.dump();
+    EXPECT_GT(j.at("load_inertia").get<double>(), 0.0) << j.dump();
+    EXPECT_EQ(j.at("inertia").get<double>(), j.at("subtree_inertia").get<double>() + j.at("load_inertia").get<double>());
+  }
+  // A fixed base carries no load.
+  for (const auto& j : runInspect("'" + quadrupedUrdf() + "' --base fixed")["default_gains"]["joints"])
+    EXPECT_EQ(j.at("load_inertia").get<double>(), 0.0) << j.dump();
 }
 
 TEST(InspectFeet, RealRobotsJsonHasTheirFeet) {

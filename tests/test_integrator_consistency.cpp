@@ -69,6 +69,7 @@ double projectionTolerance(const IntegratorOptions& options, const Model& model,
 
 IntegratorOptions optionsFor(const char* name) {
   IntegratorOptions o;
+  o.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   o.method = *parseMethod(name);
   return o;
 }

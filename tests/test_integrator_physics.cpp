@@ -120,6 +120,7 @@ TEST(FreeFall, NoContactsMatchesClosedFormBackwardEulerEveryMethod) {
     for (double dt : {0.005, 0.01, 0.05}) {
       SCOPED_TRACE(std::string(name) + " dt " + std::to_string(dt));
       IntegratorOptions options;
+      options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
       setMethod(options, name);
       Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6), qd0 = Eigen::VectorXd::Zero(6);
       // Start near 1 m: the velocity (θ − q_n)/h carries round-off ulp(‖p‖)/h, 2e-13 m/s at 1 m and 1 ms.
@@ -171,6 +172,7 @@ TEST(FreeFall, DroppedBoxMatchesClosedFormUpToImpactAcrossSplitSteps) {
   for (const char* name : {"ne-pgm", "pbd-pgm"}) {
     SCOPED_TRACE(name);
     IntegratorOptions options;
+    options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
     setMethod(options, name);
     // The impact step must be split for this test to mean something. The default options absorb
     // it in one step, so the outer iterations are capped: the impact step then fails at dt and
@@ -232,6 +234,7 @@ TEST(FreeFall, TumblingBoxCentreOfMassFollowsClosedForm) {
     for (double dt : {0.01, 0.05}) {
       SCOPED_TRACE(std::string(name) + " dt " + std::to_string(dt));
       IntegratorOptions options;
+      options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
       setMethod(options, name);
       Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6), qd0(6);
       q0.head<3>() = Vec3(0.0, 0.0, 5.0);
@@ -324,6 +327,7 @@ TEST(Pendulum, ConvergesAtFirstOrderToExactSolution) {
   for (const char* name : kAllMethods) {
     SCOPED_TRACE(name);
     IntegratorOptions options;
+    options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
     setMethod(options, name);
     std::vector<double> errors;
     for (double dt : {0.02, 0.01, 0.005}) {
@@ -359,6 +363,7 @@ TEST(Pendulum, EnergyNeverIncreasesWithImplicitMethods) {
   for (const char* name : {"ne-pgm", "pbd-pgm"}) {
     SCOPED_TRACE(name);
     IntegratorOptions options;
+    options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
     setMethod(options, name);
     Eigen::VectorXd q0(1), qd0 = Eigen::VectorXd::Zero(1);
     q0[0] = theta0;
@@ -410,6 +415,7 @@ TEST(BoxAtRest, SupportForceEqualsWeightAndNoDrift) {
     test::BoxOnPlane box(true);
     const double weight = box.mass() * kG;
     IntegratorOptions options;
+    options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
     setMethod(options, c.method);
     Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6);
     q0[2] = box.restingHeight() + 0.001;  // 1 mm above its resting depth (still 0.35 mm in the ground)
@@ -458,6 +464,7 @@ PushResult push(const char* method, double force_over_mu_mg, double dt) {
   test::BoxOnPlane box(true);
   const double mu = box.contact_model.parameters().mu, mass = box.mass();
   IntegratorOptions options;
+  options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   setMethod(options, method);
   Eigen::VectorXd q0 = Eigen::VectorXd::Zero(6);
   q0[2] = box.restingHeight();
@@ -565,7 +572,7 @@ DissipationCheck slideUnderPd(const char* method, KineticEnergyMeasure measure) 
   system.contacts = {contact};
   system.contact_model = &contact_model;
   system.terrain = &terrain;
-  system.gains = defaultPdGains(model);
+  system.gains = massScaledPdGains(model);
   system.gains.kp.setZero();
   system.gains.kd.setZero();
   system.gains.kp[0] = 2000.0;
@@ -656,7 +663,7 @@ LandingOutcome dropFootIntoSand(const char* method, double h) {
   system.contacts = {foot};
   system.contact_model = sand.get();
   system.terrain = &terrain;
-  system.gains = defaultPdGains(model);  // all zero: every coordinate is a base coordinate
+  system.gains = massScaledPdGains(model);  // all zero: every coordinate is a base coordinate
   IntegratorOptions options;
   setMethod(options, method);
   options.kinetic_energy = KineticEnergyMeasure::FullBodyPd;

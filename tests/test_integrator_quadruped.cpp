@@ -18,6 +18,7 @@ TEST(IntegratorQuadruped, StandsWithEveryMethod) {
     SCOPED_TRACE(name);
     test::QuadrupedOnPlane robot;
     IntegratorOptions options;
+    options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
     options.method = *parseMethod(name);
     const double dt = options.method == Method::NeMdp ? 0.001 : 0.05;
     const Eigen::VectorXd q0 = robot.standing();

@@ -4,6 +4,7 @@
 #include <fstream>
 #include <functional>
 
+#include "control/default_gains.hpp"
 #include "control/hermite_spline.hpp"
 #include "io/scene.hpp"
 #include "multibody/data.hpp"
@@ -469,7 +470,9 @@ TEST(Scene, GainsDefaultToDefaultPdGainsAndOverride) {
   SceneFixture f;
   const SceneConfig c = f.parse();
   const Model model = f.model(c);
-  const PdGains g = gainsFor(c, model), ref = defaultPdGains(model);
+  // The default gains are evaluated at the pose the robot starts in.
+  const PdGains g = gainsFor(c, model), ref = defaultPdGains(model, initialConfiguration(c, model));
+  EXPECT_NE(g.kp, defaultPdGains(model, Eigen::VectorXd::Zero(model.nq)).kp);
   EXPECT_EQ(g.kp, ref.kp);
   EXPECT_EQ(g.kd, ref.kd);
   EXPECT_EQ(g.tau_ff, ref.tau_ff);

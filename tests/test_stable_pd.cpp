@@ -122,7 +122,7 @@ TEST_P(StablePdRobots, BaseCoordinatesGetZeroTorque) {
   const Model model = loadQuadruped(GetParam());
   std::mt19937 rng(3);
   PdCase c = randomCase(model, rng);
-  c.gains = defaultPdGains(model);
+  c.gains = massScaledPdGains(model);
   c.gains.tau_ff.setConstant(0.0);
   for (int i = 0; i < model.nq; ++i)
     if (!model.bodies[i].is_base) c.gains.tau_ff[i] = 0.5;
@@ -157,11 +157,11 @@ TEST_P(StablePdRobots, BaseCoordinatesGetZeroTorque) {
   EXPECT_NO_THROW(validatePdGains(model, c.gains));
 }
 
-TEST_P(StablePdRobots, DefaultGainsScaleLinearlyWithMass) {
+TEST_P(StablePdRobots, MassScaledGainsScaleLinearlyWithMass) {
   const Model model = loadQuadruped(GetParam());
   // The project's quadruped: 9 + 0.01 + 4·(0.7 + 1.1 + 0.25 + 0.05) = 17.41 kg (whatever the base).
   ASSERT_NEAR(model.total_mass, 17.41, 1e-9);
-  const PdGains g = defaultPdGains(model);
+  const PdGains g = massScaledPdGains(model);
   ASSERT_EQ(g.kp.size(), model.nq);
   ASSERT_EQ(g.kd.size(), model.nq);
   ASSERT_EQ(g.tau_ff.size(), model.nq);
@@ -184,9 +184,9 @@ TEST_P(StablePdRobots, DefaultGainsScaleLinearlyWithMass) {
   // doubling the mass doubles the gains.
   Model scaled = model;
   scaled.total_mass = 100.0;
-  const PdGains ref = defaultPdGains(scaled);
+  const PdGains ref = massScaledPdGains(scaled);
   scaled.total_mass = 200.0;
-  const PdGains twice = defaultPdGains(scaled);
+  const PdGains twice = massScaledPdGains(scaled);
   for (int i = 0; i < model.nq; ++i) {
     if (model.bodies[i].is_base) continue;
     EXPECT_DOUBLE_EQ(ref.kp[i], 1000.0);
@@ -195,12 +195,12 @@ TEST_P(StablePdRobots, DefaultGainsScaleLinearlyWithMass) {
     EXPECT_DOUBLE_EQ(twice.kd[i], 2.0);
   }
   scaled.total_mass = 0.0;
-  EXPECT_THROW(defaultPdGains(scaled), std::invalid_argument);
+  EXPECT_THROW(massScaledPdGains(scaled), std::invalid_argument);
 }
 
 TEST_P(StablePdRobots, ValidateRejectsBadGains) {
   const Model model = loadQuadruped(GetParam());
-  const PdGains good = defaultPdGains(model);
+  const PdGains good = massScaledPdGains(model);
   PdGains bad = good;
   bad.kp.resize(model.nq - 1);
   EXPECT_THROW(validatePdGains(model, bad), std::invalid_argument);

@@ -79,7 +79,7 @@ struct Scene {
     system.contacts = footContactPoints(model);
     system.contact_model = &contact_model;
     system.terrain = &terrain;
-    system.gains = defaultPdGains(model);
+    system.gains = massScaledPdGains(model);
   }
 
   // Signed foot clearance φ(c) − r (negative: penetration depth) of every contact at q.

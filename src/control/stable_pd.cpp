@@ -23,9 +23,9 @@ inline void checkSizes(const PdGains& g, const PdTarget& t, const Eigen::VectorX
 
 }  // namespace
 
-PdGains defaultPdGains(const Model& model) {
+PdGains massScaledPdGains(const Model& model) {
   if (!(model.total_mass > 0.0) || !std::isfinite(model.total_mass))
-    throw std::invalid_argument("defaultPdGains: robot total mass must be positive and finite (got " +
+    throw std::invalid_argument("massScaledPdGains: robot total mass must be positive and finite (got " +
                                 std::to_string(model.total_mass) + " kg)");
   const double scale = model.total_mass / kReferencePdMass;  // linear in mass
   PdGains g;

@@ -51,13 +51,13 @@ constexpr double kReferencePdMass = 100.0;
 constexpr double kReferenceKp = 1000.0;
 constexpr double kReferenceKd = 1.0;
 
-// Default gains scaled *linearly* with the robot's total mass m = model.total_mass:
+// DESIGN.md 5's reference gains scaled *linearly* with the robot's total mass m = model.total_mass:
 //   K_p = 1000 · m/100 = 10·m,   K_d = 1 · m/100 = 0.01·m   on every actuated coordinate,
-// zero on base coordinates, τ_ff = 0. (Linear in mass keeps the closed-loop natural frequency
-// √(K_p/I) and damping ratio of a joint roughly unchanged when a robot is scaled in density:
-// joint inertias grow linearly with mass.) E.g. a 17.41 kg robot gets K_p = 174.1, K_d = 0.1741.
+// zero on base coordinates, τ_ff = 0. E.g. a 17.41 kg robot gets K_p = 174.1, K_d = 0.1741. Far
+// below critical damping on a real robot (A1: ζ ≈ 0.07 at the knee); the scene default is
+// defaultPdGains (control/default_gains.hpp). Kept for tests that need gains without a pose.
 // Throws std::invalid_argument if total_mass is not positive and finite.
-PdGains defaultPdGains(const Model& model);
+PdGains massScaledPdGains(const Model& model);
 
 // Throws std::invalid_argument naming the problem unless kp, kd, tau_ff are sized nq, finite,
 // kp, kd ≥ 0, and all three are zero on base coordinates.

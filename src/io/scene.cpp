@@ -10,6 +10,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "control/default_gains.hpp"
 #include "control/hermite_spline.hpp"
 #include "control/leg_ik.hpp"
 #include "common/input_error.hpp"
@@ -1071,12 +1072,9 @@ std::vector<ContactPoint> contactPointsFor(const SceneConfig& c, const Model& mo
 
 PdGains gainsFor(const SceneConfig& c, const Model& model) {
   const Where top{fileOf(c), ""};
-  PdGains g;
-  try {
-    g = defaultPdGains(model);
-  } catch (const std::invalid_argument& e) {
-    (top / "controller").fail(std::string("no default gains for this robot (") + e.what() + "); give controller.kp and controller.kd");
-  }
+  // Default gains from the joint inertias at the pose the robot starts in (the gait's standing pose
+  // for the built-in gaits): control/default_gains.hpp.
+  PdGains g = defaultPdGains(model, initialConfiguration(c, model));
   auto apply = [&](const GainSpec& spec, Eigen::VectorXd& values, const Where& w) {
     for (int i = 0; i < model.nq; ++i)
       if (spec.all && !model.bodies[i].is_base) values[i] = *spec.all;

@@ -29,15 +29,17 @@
 //   "terrain": object for makeTerrain  ({"type": "plane"}; "file" resolved, must exist)
 //   "integrator": {"method": ne-pgm | ne-zopgm | pbd-pgm | pbd-zopgm | ne-mdp (ne-pgm),
 //                  "dt": (0, 1] (0.05), "adaptive" (true), "min_substep": (0, dt] (1e-5),
-//                  "kinetic_energy": "full-body" | "contact-points" | "full-body-pd", and the IntegratorOptions
+//                  "kinetic_energy": "full-body" | "contact-points" | "full-body-pd" (full-body-pd), and the IntegratorOptions
 //                  fields of the same names: epsilon, tol_w, eta, eta_reject, eta_limited, beta_min,
 //                  beta_max, beta_initial, adapt_start_penalty, max_outer_iterations, projection_tolerance,
 //                  projection_max_iterations, projection_backtracking, warm_start_weights,
 //                  predict_first_iterate, and "zeroth_order_jacobian":
 //                  "finite-difference" | "dropped" (finite-difference), "accuracy": [0, 1] (0: off;
 //                  error control's relative tolerance, solver/local_error.hpp)}
-//   "controller": {"kp": number | {joint: value}, "kd": same  (defaultPdGains: scaled to the
-//                  robot's mass; a number sets every actuated joint, an object the joints named),
+//   "controller": {"kp": number | {joint: value}, "kd": same  (defaultPdGains at the start pose:
+//                  8 Hz, critically damped, about each joint's inertia and the load its leg
+//                  carries, control/default_gains.hpp; a number sets every actuated joint, an
+//                  object the joints named),
 //                  "tau_ff": {joint: value},
 //                  "gait": {"type": stand | trot | jump | keyframes (stand), then per type
 //                    stand:     height

@@ -35,6 +35,8 @@ inline bool needsContactDerivative(Method m) { return m == Method::NePgm || m ==
 // contact the force of largest dissipation at the step's end velocity, the rigid Coulomb law, at
 // any h; the full-body K does so only as h → 0 (the implicit PD is outside its metric), and the two
 // are the same without PD gains. docs/INTEGRATOR.md, "Which friction law K stands for".
+// full-body-pd is the default (the law a user's robot should get at any step); full-body is the
+// paper's and stays selectable.
 enum class KineticEnergyMeasure { FullBody, ContactPoints, FullBodyPd };
 const char* kineticEnergyName(KineticEnergyMeasure k);  // "full-body", "contact-points", "full-body-pd"
 std::optional<KineticEnergyMeasure> parseKineticEnergy(const std::string& name);
@@ -61,7 +63,7 @@ struct IntegratorOptions {
   // without a BDF2 history (the first after initialState or a chart rebase) or after a sub-step
   // shorter than h/(1+√2) is a backward-Euler step from (q_n, q̇_n). ne-mdp is first order only.
   int order = 1;
-  KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBody;
+  KineticEnergyMeasure kinetic_energy = KineticEnergyMeasure::FullBodyPd;
   bool adaptive = true;          // Algorithm 2: halve a failed step down to min_substep
   double min_substep = 1e-5;     // s
   // Projected gradient method (DESIGN.md 3).
