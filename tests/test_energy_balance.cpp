@@ -17,6 +17,7 @@ namespace {
 TEST(EnergyBalance, AFallingBoxLosesWhatBackwardEulerDissipates) {
   BoxOnPlane box(false);
   IntegratorOptions options;
+  options.accuracy = 0;  // the check on the steps given
   options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   StepWorkspace ws(box.system, options);
   Eigen::VectorXd q = Eigen::VectorXd::Zero(box.model.nq), qd = Eigen::VectorXd::Zero(box.model.nq);
@@ -93,6 +94,7 @@ TEST(EnergyBalance, WhatTheControllerCanSupplyByHand) {
 double largestRatio(Method method, const PdTargetSource& target, QuadrupedOnPlane& quadruped, double dt, double duration,
                     int* failed) {
   IntegratorOptions options;
+  options.accuracy = 0;  // the check on the steps given
   options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   options.method = method;
   StepWorkspace ws(quadruped.system, options);
@@ -133,6 +135,7 @@ TEST(EnergyBalance, AnExplicitStepPastItsLimitIsStoppedWhileStillFinite) {
   QuadrupedOnPlane quadruped;
   const KeyframePdTarget trot = makeTrotTarget(quadruped.model);
   IntegratorOptions options;
+  options.accuracy = 0;  // the check on the steps given
   options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
   options.method = Method::NeMdp;
   StepWorkspace ws(quadruped.system, options);
@@ -176,6 +179,8 @@ TEST(EnergyBalance, ARaisedCancelFlagEndsTheStepFromInside) {
   const StandingPose pose = standingPose(quadruped.model, identifyQuadrupedLegs(quadruped.model), {});
   for (Method method : {Method::NePgm, Method::PbdZopgm, Method::NeMdp}) {
     IntegratorOptions options;
+    options.accuracy = 0;  // the check on the steps given
+  options.accuracy = 0;  // the check on the steps given
     options.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
     options.method = method;
     // ne-mdp is explicit and diverges at dt 0.05 (the test above): it gets a step it can take.

@@ -70,6 +70,7 @@ double projectionTolerance(const IntegratorOptions& options, const Model& model,
 IntegratorOptions optionsFor(const char* name) {
   IntegratorOptions o;
   o.kinetic_energy = KineticEnergyMeasure::FullBody;  // the paper's K
+  o.accuracy = 0;                                    // and its fixed step
   o.method = *parseMethod(name);
   return o;
 }

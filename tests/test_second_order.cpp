@@ -42,6 +42,7 @@ IntegratorOptions optionsFor(const char* method, int order) {
   IntegratorOptions o;
   o.method = *parseMethod(method);
   o.order = order;
+  o.accuracy = 0;  // the discretization at the step given (error control: test_error_control.cpp)
   return o;
 }
 

@@ -45,7 +45,7 @@ struct Scene {
     system.contacts = footContactPoints(model);
     system.contact_model = &contact_model;
     system.terrain = &terrain;
-    system.gains = defaultPdGains(model);
+    system.gains = massScaledPdGains(model);
   }
   double deepest(const Vec& q) const {
     Data data(model);

@@ -447,7 +447,7 @@ TEST(TrajectoryWriter, NoMetadataChangesWhileRunning) {
     ASSERT_GE(f, 0);
     for (const char* name : {"/time", "/q", "/qdot", "/base/position", "/base/rpy", "/contacts/wrench",
                              "/stats/outer_iterations", "/stats/g_evaluations", "/stats/substeps",
-                             "/stats/min_substep", "/stats/wall_time", "/stats/converged"}) {
+                             "/stats/min_substep", "/stats/wall_time", "/stats/converged", "/stats/error_estimate"}) {
       const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
       const hid_t space = H5Dget_space(d);
       hsize_t chunks = 0;

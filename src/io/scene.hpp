@@ -34,8 +34,8 @@
 //                  beta_max, beta_initial, adapt_start_penalty, max_outer_iterations, projection_tolerance,
 //                  projection_max_iterations, projection_backtracking, warm_start_weights,
 //                  predict_first_iterate, and "zeroth_order_jacobian":
-//                  "finite-difference" | "dropped" (finite-difference), "accuracy": [0, 1] (0: off;
-//                  error control's relative tolerance, solver/local_error.hpp)}
+//                  "finite-difference" | "dropped" (finite-difference), "accuracy": [0, 1] (0.01;
+//                  error control's relative tolerance, solver/local_error.hpp; 0: off)}
 //   "controller": {"kp": number | {joint: value}, "kd": same  (defaultPdGains at the start pose:
 //                  8 Hz, critically damped, about each joint's inertia and the load its leg
 //                  carries, control/default_gains.hpp; a number sets every actuated joint, an
