@@ -13,6 +13,16 @@
 
 namespace nmdp::test {
 
+// Options of `method` at `order` with error control off: tests of the discretization at the step
+// they give it (error control has its own, test_error_control.cpp).
+inline IntegratorOptions fixedStepOptions(const char* method, int order = 1) {
+  IntegratorOptions o;
+  o.method = *parseMethod(method);
+  o.order = order;
+  o.accuracy = 0;
+  return o;
+}
+
 // The box on a floating base with its four bottom corners (radius 0) as contacts, or no contacts.
 struct BoxOnPlane {
   static constexpr double kHalfHeight = 0.05;
