@@ -72,6 +72,7 @@ RunResult run(const Model& model, const Configuration& configuration, double dt,
   options.method = configuration.method;
   options.kinetic_energy = configuration.kinetic_energy;
   options.zeroth_order_jacobian = configuration.zeroth_order;
+  options.accuracy = 0;  // the cost of one step of the method at dt, as its history in docs/BENCHMARKS.md
   const KeyframePdTarget trot = makeTrotTarget(model);
   const StandingPose pose = standingPose(model, identifyQuadrupedLegs(model), {});
   StepWorkspace ws(system, options);

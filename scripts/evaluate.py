@@ -13,9 +13,9 @@ Usage:
 Cases (scripts/evaluation/cases.py): the project's quadruped, A1 and Solo-12 trotting on flat ground
 with a floating base; RoboSimian walking with the paper's planar base on rigid ground (Coulomb) and on
 the published sand model; the quadruped's planar trot on the project's sand model. Every case carries
-labelled variants: K = full-body-pd (integrator.kinetic_energy, as the repository's scenes set it) and
-some the former evaluation's K, gains, swing profile and start ramp (A1: kd = 3): extra rows against
-their own 1 ms run, never part of the verdict. Scenes are written
+labelled variants: the paper's method (K = full-body, no error control), no error control, order 2
+with and without error control, and for some the former evaluation's gains, swing profile and start
+ramp (A1: kd = 3): extra rows against their own 1 ms run, never part of the verdict. Scenes are written
 at run time into the results folder from the robot and the keys that define the case; robots in
 ../shared are read in place, and a case whose files are absent is skipped with a message.
 

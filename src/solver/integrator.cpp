@@ -71,8 +71,9 @@ struct Recursion {
     count(a);
     if (a.status == StepStatus::Converged && options.order == 2 && state.second_order_history && touchesDown()) {
       // A BDF2 step across an impact carries the position's extrapolation q̂ past the contact that
-      // stopped the velocity (the body sinks by c·h·v); retake it at first order (and the next one,
-      // accept() clears the history), as a multistep method restarts at a discontinuity.
+      // stopped the velocity (the body sinks by c·h·v); retake it at first order (accept() keeps the
+      // next two first order too), as a multistep method restarts at a discontinuity. A retry of
+      // this sub-step after a failure or an error rejection is first order as well.
       state.second_order_history = false;
       ++stats.first_order_restarts;
       beta = beta_start;
