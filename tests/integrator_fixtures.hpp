@@ -1,8 +1,12 @@
-// Systems the integrator tests share: the 1 kg box on a plane and the project's quadruped on a
-// plane, both with the Coulomb cone.
+// Systems the integrator tests share: the pendulum, the 1 kg box on a plane and the project's
+// quadruped on a plane (both with the Coulomb cone), and the references they are checked against.
 #pragma once
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "contact_models/coulomb_model.hpp"
 #include "multibody/kinematics.hpp"
@@ -21,6 +25,39 @@ inline IntegratorOptions fixedStepOptions(const char* method, int order = 1) {
   o.order = order;
   o.accuracy = 0;
   return o;
+}
+
+// A 1 kg bob on a 1 m rod (tests/data/pendulum.urdf, bob inertia 1e-6), fixed base, no gains.
+struct FixedPendulum {
+  Model model = loadUrdf(sourcePath("tests/data/pendulum.urdf"), [] {
+    UrdfOptions o;
+    o.base = BaseType::Fixed;
+    return o;
+  }());
+  System system;
+  FixedPendulum() {
+    system.model = &model;
+    system.gains.kp.setZero(1);
+    system.gains.kd.setZero(1);
+    system.gains.tau_ff.setZero(1);
+  }
+};
+
+// (θ, θ̇) after T of θ̈ = −ω² sin θ from (θ0, v0), by RK4 with `n` steps: the exact solution for the
+// tests' purposes.
+inline std::pair<double, double> pendulumReference(double w2, double theta0, double v0, double T, int n = 200000) {
+  const double h = T / n;
+  double th = theta0, v = v0;
+  auto acc = [&](double x) { return -w2 * std::sin(x); };
+  for (int i = 0; i < n; ++i) {
+    const double k1x = v, k1v = acc(th);
+    const double k2x = v + 0.5 * h * k1v, k2v = acc(th + 0.5 * h * k1x);
+    const double k3x = v + 0.5 * h * k2v, k3v = acc(th + 0.5 * h * k2x);
+    const double k4x = v + h * k3v, k4v = acc(th + h * k3x);
+    th += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+  }
+  return {th, v};
 }
 
 // The box on a floating base with its four bottom corners (radius 0) as contacts, or no contacts.
@@ -92,5 +129,30 @@ struct QuadrupedOnPlane {
     return q;
   }
 };
+
+// The largest ‖q_ne − q_pbd‖∞ over `duration` of ne-pgm and pbd-pgm runs at dt with `options`
+// (their method replaced) from (q0, q̇0): how far the two forms' trajectories are apart. NaN if a
+// step fails. Assumes no floating-base re-charting (checked).
+inline double neToPbdDistance(const QuadrupedOnPlane& robot, IntegratorOptions options, const Eigen::VectorXd& q0,
+                              const Eigen::VectorXd& qd0, const PdTargetSource& target, double dt, double duration) {
+  std::vector<Eigen::VectorXd> traj[2];
+  const Method methods[2] = {Method::NePgm, Method::PbdPgm};
+  const int steps = static_cast<int>(std::lround(duration / dt));
+  for (int k = 0; k < 2; ++k) {
+    options.method = methods[k];
+    StepWorkspace ws(robot.system, options);
+    SimulationState state = initialState(robot.system, options, q0, qd0, dt);
+    for (int i = 0; i < steps; ++i) {
+      const StepStats st = advance(robot.system, options, target, state, dt, ws);
+      EXPECT_TRUE(st.converged) << methodName(methods[k]) << " dt " << dt << " step " << i << ": " << toString(st.status);
+      if (!st.converged) return NAN;
+      EXPECT_EQ(state.base_chart, Mat3::Identity()) << "the comparison assumes no re-charting";
+      traj[k].push_back(state.q);
+    }
+  }
+  double diff = 0;
+  for (int i = 0; i < steps; ++i) diff = std::max(diff, (traj[0][i] - traj[1][i]).lpNorm<Eigen::Infinity>());
+  return diff;
+}
 
 }  // namespace nmdp::test

@@ -23,38 +23,12 @@ namespace {
 
 constexpr double kG = 9.81;
 
-// A 1 kg bob on a 1 m rod, fixed base, no gains: θ̈ = −(g/l) sin θ.
-struct Pendulum {
-  Model model = loadUrdf(test::sourcePath("tests/data/pendulum.urdf"), [] {
-    UrdfOptions o;
-    o.base = BaseType::Fixed;
-    return o;
-  }());
-  System system;
-  Pendulum() {
-    system.model = &model;
-    system.gains.kp.setZero(1);
-    system.gains.kd.setZero(1);
-    system.gains.tau_ff.setZero(1);
-  }
-};
+using Pendulum = test::FixedPendulum;
 
-// RK4 with a tiny step: the exact (θ, θ̇) after T from (θ0, v0).
+// The exact (θ, θ̇) after T from (θ0, v0): θ̈ = −(g/l) sin θ, the bob's 1e-6 inertia neglected
+// (1e-6 relative).
 std::pair<double, double> exactPendulum(double theta0, double v0, double T) {
-  const double w2 = kG;  // m g l / (m l²) with the bob's 1e-6 inertia neglected (1e-6 relative)
-  const int n = 100000;
-  const double h = T / n;
-  double th = theta0, v = v0;
-  auto acc = [&](double x) { return -w2 * std::sin(x); };
-  for (int i = 0; i < n; ++i) {
-    const double k1x = v, k1v = acc(th);
-    const double k2x = v + 0.5 * h * k1v, k2v = acc(th + 0.5 * h * k1x);
-    const double k3x = v + 0.5 * h * k2v, k3v = acc(th + 0.5 * h * k2x);
-    const double k4x = v + h * k3v, k4v = acc(th + h * k3x);
-    th += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-  }
-  return {th, v};
+  return test::pendulumReference(kG, theta0, v0, T, 100000);
 }
 
 Eigen::VectorXd one(double x) { return Eigen::VectorXd::Constant(1, x); }
@@ -93,7 +67,7 @@ TEST(LocalError, FirstOrderEstimateIsTheStepsPositionError) {
     const double expected = sqrt_H * std::abs(estimate) /
                             (accuracy * (sqrt_H * std::abs(state.q[0] - th_n) + std::sqrt(p.model.total_mass) *
                                                                                      LocalError::kFloorLength));
-    EXPECT_NEAR(local.normalized(p.model, s, accuracy), expected, 1e-12 * expected);
+    EXPECT_NEAR(local.normalized(s, data.H, accuracy), expected, 1e-12 * expected);
   }
 }
 
@@ -128,7 +102,7 @@ TEST(LocalError, SecondOrderEstimateIsExactForACubic) {
     const double sqrt_H = std::sqrt(data.H(0, 0));
     const double scale =
         accuracy * (sqrt_H * (q(t + h) - q(t)) + std::sqrt(p.model.total_mass) * LocalError::kFloorLength);
-    EXPECT_NEAR(local.normalized(p.model, s, accuracy) * scale / sqrt_H, step_error, 1e-9 * step_error);
+    EXPECT_NEAR(local.normalized(s, data.H, accuracy) * scale / sqrt_H, step_error, 1e-9 * step_error);
   }
 }
 
@@ -249,6 +223,33 @@ TEST(ErrorControl, RerunsAreBitIdentical) {
   EXPECT_GT(a.second, 6);  // the drop was controlled: some step was split
   EXPECT_EQ(a.second, b.second);
   for (Eigen::Index i = 0; i < a.first.size(); ++i) EXPECT_EQ(a.first[i], b.first[i]) << "coordinate " << i;
+}
+
+// The estimate's H(θ) comes from the energy check when it is on, from its own CRBA when it is off:
+// the same computation, so the controlled run is the same bit for bit either way.
+TEST(ErrorControl, MassMatrixFromTheEnergyCheckOrItsOwnGiveTheSameRun) {
+  test::QuadrupedOnPlane robot;
+  const Eigen::VectorXd q0 = robot.standing(-0.02);
+  ConstantPdTarget target(robot.standing());
+  auto run = [&](double energy_tolerance) {
+    IntegratorOptions options;
+    options.accuracy = 0.01;
+    options.energy_tolerance = energy_tolerance;
+    StepWorkspace ws(robot.system, options);
+    SimulationState state = initialState(robot.system, options, q0, Eigen::VectorXd::Zero(q0.size()), 0.05);
+    long substeps = 0;
+    for (int i = 0; i < 6; ++i) {
+      const StepStats s = advance(robot.system, options, target, state, 0.05, ws);
+      EXPECT_TRUE(s.converged) << "step " << i;
+      substeps += s.substeps;
+    }
+    return std::make_pair(state.q, substeps);
+  };
+  const auto checked = run(IntegratorOptions().energy_tolerance);
+  const auto unchecked = run(std::numeric_limits<double>::infinity());
+  EXPECT_GT(checked.second, 6);
+  EXPECT_EQ(checked.second, unchecked.second);
+  for (Eigen::Index i = 0; i < checked.first.size(); ++i) EXPECT_EQ(checked.first[i], unchecked.first[i]) << i;
 }
 
 TEST(ErrorControl, BadToleranceIsRefused) {

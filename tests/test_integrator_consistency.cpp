@@ -241,34 +241,12 @@ TEST(IntegratorConsistency, PaperZerothOrderReachesTheSameStepWhereItIsPinned) {
 
 // ---------------------------------------------------------------------------------------------
 // NE vs PBD as dt → 0: both are first-order discretisations of the same dynamics, so the distance
-// between their trajectories over a fixed time shrinks linearly with dt.
-double maxTrajectoryDifference(const test::QuadrupedOnPlane& robot, const Vec& q0, const Vec& qd0, const PdTargetSource& target,
-                               double dt, double duration) {
-  std::vector<Vec> traj[2];
-  const char* names[2] = {"ne-pgm", "pbd-pgm"};
-  const int steps = static_cast<int>(std::lround(duration / dt));
-  for (int k = 0; k < 2; ++k) {
-    IntegratorOptions options = optionsFor(names[k]);
-    StepWorkspace ws(robot.system, options);
-    SimulationState state = initialState(robot.system, options, q0, qd0, dt);
-    for (int i = 0; i < steps; ++i) {
-      const StepStats st = advance(robot.system, options, target, state, dt, ws);
-      EXPECT_TRUE(st.converged) << names[k] << " dt " << dt << " step " << i << ": " << toString(st.status);
-      if (!st.converged) return NAN;
-      EXPECT_EQ(state.base_chart, Mat3::Identity()) << "the comparison assumes no re-charting";
-      traj[k].push_back(state.q);
-    }
-  }
-  double diff = 0;
-  for (int i = 0; i < steps; ++i) diff = std::max(diff, (traj[0][i] - traj[1][i]).lpNorm<Eigen::Infinity>());
-  return diff;
-}
-
+// between their trajectories over a fixed time shrinks linearly with dt (test::neToPbdDistance).
 void expectLinearConvergence(const test::QuadrupedOnPlane& robot, const Vec& q0, const Vec& qd0, const PdTargetSource& target,
                              const char* what) {
   std::vector<double> diffs;
   for (double dt : {4e-3, 2e-3, 1e-3}) {
-    diffs.push_back(maxTrajectoryDifference(robot, q0, qd0, target, dt, 0.2));
+    diffs.push_back(test::neToPbdDistance(robot, optionsFor("ne-pgm"), q0, qd0, target, dt, 0.2));
     std::printf("  %s dt %.0e: max |q_ne − q_pbd|∞ %.3e\n", what, dt, diffs.back());
   }
   EXPECT_GE(diffs[0] / diffs[1], 1.6) << what;

@@ -51,8 +51,6 @@ void setMethod(IntegratorOptions& options, const std::string& name) {
   if (colon != std::string::npos) options.zeroth_order_jacobian = *parseZerothOrderJacobian(name.substr(colon + 1));
 }
 
-std::string pendulumUrdf() { return test::sourcePath("tests/data/pendulum.urdf"); }
-
 double seconds(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
@@ -271,23 +269,10 @@ TEST(FreeFall, TumblingBoxCentreOfMassFollowsClosedForm) {
 // 2. Pendulum
 // ---------------------------------------------------------------------------------------------
 
-struct Pendulum {
-  static UrdfOptions urdf_options() {
-    UrdfOptions o;
-    o.base = BaseType::Fixed;
-    return o;
-  }
-  Model model = loadUrdf(pendulumUrdf(), urdf_options());
-  System system;
+struct Pendulum : test::FixedPendulum {
   Data data{model};
   int rod = model.linkIndex("rod");
   static constexpr double kMass = 1.0, kLength = 1.0, kBobInertia = 1e-6;
-  Pendulum() {
-    system.model = &model;
-    system.gains.kp.setZero(1);
-    system.gains.kd.setZero(1);
-    system.gains.tau_ff.setZero(1);
-  }
   // θ̈ = −ω² sin θ with ω² = m g l / (m l² + I_bob).
   static double omega2() { return kMass * kG * kLength / (kMass * kLength * kLength + kBobInertia); }
   // Kinetic (½ q̇ᵀ H q̇ from CRBA) plus potential (m g z of the bob from forward kinematics).
@@ -302,20 +287,7 @@ struct Pendulum {
 
 // RK4 of θ̈ = −ω² sin θ to time T with a tiny step: the exact solution for the purposes of the test.
 std::pair<double, double> pendulumReference(double theta0, double T) {
-  const double w2 = Pendulum::omega2();
-  const int n = 200000;
-  const double h = T / n;
-  double th = theta0, v = 0;
-  auto acc = [&](double x) { return -w2 * std::sin(x); };
-  for (int i = 0; i < n; ++i) {
-    const double k1x = v, k1v = acc(th);
-    const double k2x = v + 0.5 * h * k1v, k2v = acc(th + 0.5 * h * k1x);
-    const double k3x = v + 0.5 * h * k2v, k3v = acc(th + 0.5 * h * k2x);
-    const double k4x = v + h * k3v, k4v = acc(th + h * k3x);
-    th += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-  }
-  return {th, v};
+  return test::pendulumReference(Pendulum::omega2(), theta0, 0.0, T);
 }
 
 TEST(Pendulum, ConvergesAtFirstOrderToExactSolution) {

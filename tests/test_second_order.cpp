@@ -44,37 +44,8 @@ IntegratorOptions optionsFor(const char* method, int order) { return test::fixed
 // 1. Pendulum
 // ---------------------------------------------------------------------------------------------
 
-struct Pendulum {
-  Model model = loadUrdf(test::sourcePath("tests/data/pendulum.urdf"), [] {
-    UrdfOptions o;
-    o.base = BaseType::Fixed;
-    return o;
-  }());
-  System system;
-  Pendulum() {
-    system.model = &model;
-    system.gains.kp.setZero(1);
-    system.gains.kd.setZero(1);
-    system.gains.tau_ff.setZero(1);
-  }
-};
+using Pendulum = test::FixedPendulum;
 
-// RK4 of θ̈ = −ω² sin θ (ω² = m g l / H, H from the model) with a tiny step: the exact solution here.
-std::pair<double, double> pendulumReference(double w2, double theta0, double T) {
-  const int n = 200000;
-  const double h = T / n;
-  double th = theta0, v = 0;
-  auto acc = [&](double x) { return -w2 * std::sin(x); };
-  for (int i = 0; i < n; ++i) {
-    const double k1x = v, k1v = acc(th);
-    const double k2x = v + 0.5 * h * k1v, k2v = acc(th + 0.5 * h * k1x);
-    const double k3x = v + 0.5 * h * k2v, k3v = acc(th + 0.5 * h * k2x);
-    const double k4x = v + h * k3v, k4v = acc(th + h * k3x);
-    th += h / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-    v += h / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-  }
-  return {th, v};
-}
 
 TEST(SecondOrder, PendulumConvergesAtSecondOrder) {
   Pendulum p;
@@ -82,7 +53,7 @@ TEST(SecondOrder, PendulumConvergesAtSecondOrder) {
   Data data(p.model);
   crba(p.model, data, Vec::Constant(1, theta0));
   const double w2 = 1.0 * kG * 1.0 / data.H(0, 0), w = std::sqrt(w2);  // m g l / H
-  const auto [th_ref, v_ref] = pendulumReference(w2, theta0, T);
+  const auto [th_ref, v_ref] = test::pendulumReference(w2, theta0, 0.0, T);
   const std::vector<double> steps = {0.04, 0.02, 0.01, 0.005};
   for (int order : {1, 2}) {
     for (const char* name : kNmdpMethods) {
@@ -316,27 +287,6 @@ TEST(SecondOrder, TumblingBoxCentreOfMassFollowsTheClosedForm) {
 // 4. NE and PBD as dt → 0
 // ---------------------------------------------------------------------------------------------
 
-double neToPbdDistance(const test::QuadrupedOnPlane& robot, const Vec& q0, const Vec& qd0, const PdTargetSource& target,
-                       double dt, double duration) {
-  std::vector<Vec> traj[2];
-  const char* names[2] = {"ne-pgm", "pbd-pgm"};
-  const int steps = static_cast<int>(std::lround(duration / dt));
-  for (int k = 0; k < 2; ++k) {
-    const IntegratorOptions options = optionsFor(names[k], 2);
-    StepWorkspace ws(robot.system, options);
-    SimulationState state = initialState(robot.system, options, q0, qd0, dt);
-    for (int i = 0; i < steps; ++i) {
-      const StepStats st = advance(robot.system, options, target, state, dt, ws);
-      EXPECT_TRUE(st.converged) << names[k] << " dt " << dt << " step " << i << ": " << toString(st.status);
-      if (!st.converged) return NAN;
-      EXPECT_EQ(state.base_chart, Mat3::Identity()) << "the comparison assumes no re-charting";
-      traj[k].push_back(state.q);
-    }
-  }
-  double diff = 0;
-  for (int i = 0; i < steps; ++i) diff = std::max(diff, (traj[0][i] - traj[1][i]).lpNorm<Eigen::Infinity>());
-  return diff;
-}
 
 // The passive quadruped tumbling in the air with random joint velocities (as at order 1 in
 // test_integrator_consistency.cpp, where the distance halves with dt): here it quarters.
@@ -350,7 +300,7 @@ TEST(SecondOrder, NeAndPbdApproachEachOtherAtSecondOrder) {
   const ConstantPdTarget target(q0);
   std::vector<double> d;
   for (double dt : {4e-3, 2e-3, 1e-3}) {
-    d.push_back(neToPbdDistance(robot, q0, qd0, target, dt, 0.2));
+    d.push_back(test::neToPbdDistance(robot, optionsFor("ne-pgm", 2), q0, qd0, target, dt, 0.2));
     std::printf("  passive swinging, order 2, dt %.0e: max |q_ne − q_pbd|∞ %.3e\n", dt, d.back());
   }
   std::printf("  ratios %.2f %.2f\n", d[0] / d[1], d[1] / d[2]);

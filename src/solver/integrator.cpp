@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "multibody/crba.hpp"
 #include "multibody/kinematics.hpp"
 #include "solver/bdf2.hpp"
 
@@ -128,6 +129,8 @@ struct Recursion {
     return false;
   }
 
+  bool energyCheckOn() const { return options.energy_tolerance < std::numeric_limits<double>::infinity(); }
+
   bool halt(StepStatus status) {
     stats.status = status;
     halted = true;
@@ -137,7 +140,7 @@ struct Recursion {
   // The energy balance of the converged attempt (solver/energy_balance.hpp); records the sub-step
   // closest to the limit in stats.energy.
   bool energyHolds(double h) {
-    if (!(options.energy_tolerance < std::numeric_limits<double>::infinity())) return true;
+    if (!energyCheckOn()) return true;
     const Model& model = *system.model;
     if (!(ws.state_energy_q == state.q && ws.state_energy_qd == state.qd && ws.state_energy_chart == state.base_chart)) {
       ws.energy_data.base_chart = state.base_chart;
@@ -183,7 +186,12 @@ struct Recursion {
     s.v_before = &state.qd;
     s.v_after = &solver.velocity();
     s.v_prev = &state.qd_prev;
-    const double err = ws.local_error.normalized(*system.model, s, options.accuracy);
+    // H(θ) in the state's chart: the energy check's mechanicalEnergy left it in energy_data.
+    if (!energyCheckOn()) {
+      ws.energy_data.base_chart = state.base_chart;
+      crba(*system.model, ws.energy_data, solver.theta());
+    }
+    const double err = ws.local_error.normalized(s, ws.energy_data.H, options.accuracy);
     if (!(err <= 1.0) && 0.5 * h >= options.min_substep) {
       ++stats.error_rejections;
       error_rejected = true;

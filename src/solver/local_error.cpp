@@ -3,18 +3,17 @@
 #include <algorithm>
 #include <cmath>
 
-#include "multibody/crba.hpp"
 
 namespace nmdp {
 
-LocalError::LocalError(const Model& model) : data_(model) {
+LocalError::LocalError(const Model& model) {
   error_.setZero(model.nq);
   displacement_.setZero(model.nq);
   product_.setZero(model.nq);
   sqrt_mass_ = std::sqrt(std::max(model.total_mass, 0.0));
 }
 
-double LocalError::normalized(const Model& model, const LocalErrorStep& s, double accuracy) {
+double LocalError::normalized(const LocalErrorStep& s, const Eigen::MatrixXd& H, double accuracy) {
   const double h = s.h;
   if (s.order == 2) {
     const double omega = h / s.h_prev;
@@ -26,10 +25,9 @@ double LocalError::normalized(const Model& model, const LocalErrorStep& s, doubl
     error_ = 0.5 * h * (*s.v_after - *s.v_before);
   }
   displacement_ = *s.q_after - *s.q_before;
-  crba(model, data_, *s.q_after);
-  product_.noalias() = data_.H * error_;
+  product_.noalias() = H * error_;
   const double e = std::sqrt(std::max(error_.dot(product_), 0.0));
-  product_.noalias() = data_.H * displacement_;
+  product_.noalias() = H * displacement_;
   const double d = std::sqrt(std::max(displacement_.dot(product_), 0.0));
   return e / (accuracy * (d + sqrt_mass_ * kFloorLength));
 }

@@ -17,7 +17,7 @@
 #pragma once
 #include <Eigen/Core>
 
-#include "multibody/data.hpp"
+#include "multibody/model.hpp"
 
 namespace nmdp {
 
@@ -35,8 +35,9 @@ struct LocalErrorStep {
 class LocalError {
  public:
   explicit LocalError(const Model& model);
-  // err above (≥ 0; NaN if the state is not finite). Allocates nothing.
-  double normalized(const Model& model, const LocalErrorStep& step, double accuracy);
+  // err above (≥ 0; NaN if the state is not finite), with H = H(q_{n+1}) in the state's chart (the
+  // caller has it from the energy check). Allocates nothing.
+  double normalized(const LocalErrorStep& step, const Eigen::MatrixXd& H, double accuracy);
   // The next step's size after a step of `order` with normalized error `err`: the standard
   // controller h·0.9·err^{−1/(p+1)}, kept within [0.2 h, 2 h] (2: variable-step BDF2 stays
   // zero-stable for ratios below 1 + √2).
@@ -45,7 +46,6 @@ class LocalError {
   static constexpr double kFloorLength = 0.01;  // m, L_floor above
 
  private:
-  Data data_;
   Eigen::VectorXd error_, displacement_, product_;
   double sqrt_mass_ = 0.0;
 };
