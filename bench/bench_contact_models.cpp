@@ -7,7 +7,7 @@
 #include <iostream>
 
 #include "contact_models/coulomb_model.hpp"
-#include "contact_models/mlp_function.hpp"
+#include "contact_models/mlp/mlp_function.hpp"
 #include "contact_models/rbf_model.hpp"
 #include "terrain/plane.hpp"
 

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "contact_models/registry.hpp"
-#include "io/scene.hpp"
+#include "sim/scene.hpp"
 #include "multibody/urdf_loader.hpp"
 #include "solver/integrator.hpp"
 #include "terrain/terrain_factory.hpp"

@@ -26,7 +26,7 @@
 #include "contact_models/rbf_function.hpp"
 #include "training/fit_config.hpp"
 #include "training/force_dataset.hpp"
-#include "training/mlp_fit.hpp"
+#include "training/mlp/mlp_fit.hpp"
 
 namespace {
 using namespace nmdp;

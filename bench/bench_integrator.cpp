@@ -23,7 +23,7 @@
 #include "terrain/plane.hpp"
 
 #define NMDP_COUNT_MALLOC
-#include "../tests/test_allocation_counter.hpp"
+#include "tests/support/test_allocation_counter.hpp"
 
 using namespace nmdp;
 

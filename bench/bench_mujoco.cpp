@@ -4,7 +4,7 @@
 // Ours: the scene models/scenes/a1_trot_flat.json built exactly as `nmdp simulate` builds it (robot,
 // contact points, Coulomb model, terrain, gains, trot gait, initial state, integrator options), run
 // with ne-pgm and pbd-pgm at several dt. MuJoCo (2.2.x, the Debian package): A1's URDF handed to
-// MuJoCo's own importer from memory with the oracle test's edits (tests/mujoco_urdf.hpp), plus a
+// MuJoCo's own importer from memory with the oracle test's edits (tests/support/mujoco_urdf.hpp), plus a
 // floating joint on the root link (MuJoCo's free joint) and a ground box with its top face at z = 0,
 // all in the URDF text (no lossy MJCF round trip). Only the foot spheres of the URDF's collision
 // geometry touch the ground (every other geom collides with nothing, as in ours, where only the
@@ -63,8 +63,8 @@
 #include "equal_accuracy.hpp"
 #include "mujoco_a1_runs.hpp"
 #include "contact_models/coulomb_model.hpp"
-#include "io/json_params.hpp"
-#include "io/scene.hpp"
+#include "config/json_params.hpp"
+#include "sim/scene.hpp"
 #include "multibody/data.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/urdf_loader.hpp"
@@ -424,7 +424,7 @@ int run(int argc, char** argv) {
           " cores: wall times include other work's interference; the CPU time of the stepping thread is the steadier "
           "figure.\n\n"
           "MuJoCo's model: A1's URDF through MuJoCo's own importer from memory, with the oracle test's edits "
-          "(tests/mujoco_urdf.hpp: visuals removed, no inertia alterations, principal-axes inertias, static links "
+          "(tests/support/mujoco_urdf.hpp: visuals removed, no inertia alterations, principal-axes inertias, static links "
           "fused), a floating joint (MuJoCo's free joint) on the root link, and a ground box whose top face is z = 0. "
           "Only the four foot spheres (r = 0.02 m, matched to our contact points by position and radius) collide, and "
           "only with the ground; friction μ on both, condim 3; joint limits off (ours has none); no armature or "

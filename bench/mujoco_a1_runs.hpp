@@ -15,10 +15,10 @@
 #include <vector>
 
 #include "bench_clock.hpp"
-#include "../tests/mujoco_urdf.hpp"
+#include "tests/support/mujoco_urdf.hpp"
 #include "contact_models/coulomb_model.hpp"
-#include "io/json_params.hpp"
-#include "io/scene.hpp"
+#include "config/json_params.hpp"
+#include "sim/scene.hpp"
 #include "multibody/data.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/urdf_loader.hpp"

@@ -13,6 +13,7 @@
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
 #include "common/limits.hpp"
+#include "common/text.hpp"
 
 namespace nmdp {
 
@@ -33,16 +34,6 @@ constexpr KernelName kKernelNames[] = {
 
 constexpr int kFormatVersion = 1;
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
-
-std::string shape(const Eigen::MatrixXd& m) { return std::to_string(m.rows()) + "x" + std::to_string(m.cols()); }
-
-// First non-finite entry of m, as "row r, column c" (0-based), or "" when all are finite.
-std::string firstNonFinite(const Eigen::MatrixXd& m) {
-  for (Eigen::Index c = 0; c < m.cols(); ++c)
-    for (Eigen::Index r = 0; r < m.rows(); ++r)
-      if (!std::isfinite(m(r, c))) return "row " + std::to_string(r) + ", column " + std::to_string(c);
-  return "";
-}
 
 // The product basisᵀ · coefficients. Eigen's GEMM repacks the constant coefficients on every call
 // (a third of its time at this size); here they are stored packed (row-major, padded to whole
@@ -205,10 +196,10 @@ RbfFunction::RbfFunction(RbfParameters parameters) : params_(std::move(parameter
   if (N < 1) throw std::invalid_argument("RbfFunction: no centres");
   if (p.weights.rows() != N || p.weights.cols() < 3 || p.weights.cols() % 3 != 0)
     throw std::invalid_argument("RbfFunction: weights must be N x 3K with N = " + std::to_string(N) + " centres, got " +
-                                shape(p.weights));
+                                shapeText(p.weights));
   if (p.polynomial.size() != 0 && (p.polynomial.rows() != 3 || p.polynomial.cols() != p.weights.cols()))
     throw std::invalid_argument("RbfFunction: the polynomial tail must be 3 x " + std::to_string(p.weights.cols()) +
-                                ", got " + shape(p.polynomial));
+                                ", got " + shapeText(p.polynomial));
   if (!p.centres.allFinite() || !p.weights.allFinite() || !p.polynomial.allFinite())
     throw std::invalid_argument("RbfFunction: non-finite centre, weight or polynomial coefficient");
   if (!(p.spec.scaling.minCoeff() > 0.0) || !p.spec.scaling.allFinite())
@@ -463,7 +454,7 @@ RbfModelFile readRbfHdf5(const std::string& path) {
 
   const Eigen::MatrixXd centres = file.readMatrix("/rbf/centres", 2 * limits::kMaxRbfCentres);
   if (centres.rows() < 1 || centres.cols() != 2)
-    fail("dataset '/rbf/centres' must be N x 2 (phi, beta), got " + shape(centres));
+    fail("dataset '/rbf/centres' must be N x 2 (phi, beta), got " + shapeText(centres));
   if (centres.rows() > limits::kMaxRbfCentres)
     fail("dataset '/rbf/centres' has " + std::to_string(centres.rows()) + " centres, more than the " +
          std::to_string(limits::kMaxRbfCentres) + " a model may have");
@@ -472,21 +463,21 @@ RbfModelFile readRbfHdf5(const std::string& path) {
   const Eigen::MatrixXd weights = file.readMatrix("/rbf/weights", centres.rows() * 3 * limits::kMaxVertices);
   if (weights.rows() != centres.rows() || weights.cols() < 3 || weights.cols() % 3 != 0)
     fail("dataset '/rbf/weights' must be N x 3K with N = " + std::to_string(centres.rows()) +
-         " (the rows of '/rbf/centres'), got " + shape(weights));
+         " (the rows of '/rbf/centres'), got " + shapeText(weights));
   if (weights.cols() / 3 > limits::kMaxVertices)
     fail("dataset '/rbf/weights' has " + std::to_string(weights.cols() / 3) + " vertices, more than the " +
          std::to_string(limits::kMaxVertices) + " a model may have");
   if (const std::string bad = firstNonFinite(weights); !bad.empty())
     fail("dataset '/rbf/weights' has a non-finite value at " + bad);
   const Eigen::MatrixXd scaling = file.readMatrix("/rbf/scaling", 64);
-  if (scaling.size() != 2) fail("dataset '/rbf/scaling' must hold 2 numbers (s_phi, s_beta), got " + shape(scaling));
+  if (scaling.size() != 2) fail("dataset '/rbf/scaling' must hold 2 numbers (s_phi, s_beta), got " + shapeText(scaling));
   if (!(scaling.minCoeff() > 0.0) || !scaling.allFinite())
     fail("dataset '/rbf/scaling' must hold positive finite numbers");
   if (file.exists("/rbf/polynomial")) {
     p.polynomial = file.readMatrix("/rbf/polynomial", 4 * 3 * weights.cols());
     if (p.polynomial.rows() != 3 || p.polynomial.cols() != weights.cols())
       fail("dataset '/rbf/polynomial' must be 3 x " + std::to_string(weights.cols()) + " (rows 1, phi, beta), got " +
-           shape(p.polynomial));
+           shapeText(p.polynomial));
     if (const std::string bad = firstNonFinite(p.polynomial); !bad.empty())
       fail("dataset '/rbf/polynomial' has a non-finite value at " + bad);
   }

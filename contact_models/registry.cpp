@@ -1,27 +1,9 @@
 #include "contact_models/registry.hpp"
 
-#include "contact_models/coulomb_model.hpp"
-#include "contact_models/mlp_model.hpp"
-#include "contact_models/rbf_model.hpp"
 #include "common/input_error.hpp"
+#include "common/text.hpp"
 
 namespace nmdp {
-
-namespace {
-std::string join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
-}  // namespace
-
-ContactModelRegistry ContactModelRegistry::withBuiltins() {
-  ContactModelRegistry r;
-  r.add("coulomb", kCoulombParameters, makeCoulombModel);
-  r.add("rbf", kRbfParameters, makeRbfModel);
-  r.add("mlp", kMlpParameters, makeMlpModel);
-  return r;
-}
 
 void ContactModelRegistry::add(const std::string& type, std::vector<std::string> parameters, ContactModelFactory factory) {
   entries_[type] = Entry{std::move(parameters), std::move(factory)};

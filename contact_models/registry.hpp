@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "contact_models/contact_model.hpp"
-#include "io/json_params.hpp"
+#include "config/json_params.hpp"
 
 namespace nmdp {
 

@@ -1,7 +1,7 @@
-// Keyframe files (CSV or JSON, src/io/scene.hpp) of a scene's "keyframes" gait on the project's
+// Keyframe files (CSV or JSON, src/sim/scene.hpp) of a scene's "keyframes" gait on the project's
 // quadruped: validated, built into PD targets, sampled over two cycles, and the start pose solved.
 #include "fuzz/fuzz_support.hpp"
-#include "io/scene.hpp"
+#include "sim/scene.hpp"
 #include "multibody/urdf_loader.hpp"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

@@ -1,4 +1,4 @@
-// Scene files with --set overrides (src/io/scene.hpp): the scene JSON, then any number of lines
+// Scene files with --set overrides (src/sim/scene.hpp): the scene JSON, then any number of lines
 // "--set key.path=value". Built as `nmdp simulate` builds it (robot, contacts, contact model,
 // terrain, gains, gait, start state; paths resolve against models/scenes/, so seeds reach the
 // project's robots, models and terrains) and stepped up to three times, without an output file.
@@ -7,7 +7,7 @@
 #include "common/json_text.hpp"
 #include "contact_models/registry.hpp"
 #include "fuzz/fuzz_support.hpp"
-#include "io/scene.hpp"
+#include "sim/scene.hpp"
 #include "multibody/urdf_loader.hpp"
 #include "solver/integrator.hpp"
 #include "terrain/terrain_factory.hpp"

@@ -14,7 +14,7 @@
 #include <string>
 #include <vector>
 
-#include "contact_models/mlp_function.hpp"
+#include "contact_models/mlp/mlp_function.hpp"
 #include "fuzz/h5_text.hpp"
 #include "training/force_dataset.hpp"
 

@@ -4,7 +4,7 @@
 Usage:  scripts/plot_run.py OUT.h5 PLOT.png
 Needs Debian's python3-h5py and python3-matplotlib (scripts/install-deps.sh), hence /usr/bin/python3.
 
-Reads the layout of DESIGN.md section 11 (src/io/trajectory_writer.hpp): /steps (the number of
+Reads the layout of DESIGN.md section 11 (src/sim/trajectory_writer.hpp): /steps (the number of
 complete steps N), /time, /base/position (x 3), /status if present, and the root attribute `config`
 (the resolved scene as JSON), which gives the title (robot, contact model, integrator method, dt)
 and the standing height robot.initial.height (drawn dashed, with a band of +-30 % around it) when

@@ -18,7 +18,7 @@ namespace {
   throw InputError(ctx.where + (key.empty() ? "" : "." + key) + ": " + what);
 }
 
-// The activation names of contact_models/mlp_function.hpp, repeated here: that file is in the
+// The activation names of contact_models/mlp/mlp_function.hpp, repeated here: that file is in the
 // libtorch library and this one in the core (test_fit links the core only).
 const char* activationName(MlpActivation a) {
   switch (a) {

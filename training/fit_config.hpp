@@ -3,7 +3,7 @@
 // (mirror when the data covers one side of β = 0, zero-wrench rows above the surface, a cut-off at
 // the lowest zero-wrench point above the data's wrenches; resolveFitConfig), scale 1, a thin-plate RBF with the published scaling
 // diag(5, 1), no ridge, no tail; for --model mlp a 2-64-64-3K tanh network trained by full-batch
-// Adam with early stopping (training/mlp_fit.hpp). "data" as a value asks for the default. The
+// Adam with early stopping (training/mlp/mlp_fit.hpp). "data" as a value asks for the default. The
 // "rbf" section is used by --model rbf (and by the MLP's optional teacher grid), the "mlp" section
 // by --model mlp only.
 //
@@ -27,7 +27,7 @@
 //       "ridge": 0,                   λ ≥ 0 on the kernel matrix's diagonal (0 = interpolation)
 //       "polynomial_tail": false      the linear tail a + b φ + c β
 //     },
-//     "mlp": {                        training/mlp_fit.hpp
+//     "mlp": {                        training/mlp/mlp_fit.hpp
 //       "hidden_layers": 2,           L ≥ 0 hidden layers ...
 //       "width": 64,                  ... of this many units (≥ 1)
 //       "activation": "tanh",         tanh, softplus or silu (never ReLU: the solver needs C¹)
@@ -50,7 +50,7 @@
 //                                     below the surface; [0, 0] = no teacher (mlp_fit.hpp)
 //       "output_envelope": "none",    or "depth": the model is W = (−φ) N, zero at the surface, or
 //                                     "soft_depth": W = w softplus(−φ/w) N, ≈ −φ N below the surface
-//                                     (contact_models/mlp_function.hpp, mlp_fit.hpp)
+//                                     (contact_models/mlp/mlp_function.hpp, mlp_fit.hpp)
 //       "envelope_width": 0.005,      m in (0, 10]: w of "soft_depth"
 //       "teacher_refinement": [],     rad in (0, 10): extra teacher columns at every data angle ±
 //                                     each of these (where the thin-plate teacher bends sharply)
@@ -75,9 +75,9 @@
 #include <optional>
 
 #include "contact_models/planar_wrench_model.hpp"
-#include "io/json_params.hpp"
+#include "config/json_params.hpp"
 #include "training/augmentation.hpp"
-#include "training/mlp_fit.hpp"
+#include "training/mlp_fit_settings.hpp"
 #include "training/rbf_fit.hpp"
 
 namespace nmdp {

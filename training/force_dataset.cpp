@@ -13,6 +13,7 @@
 #include "common/limits.hpp"
 #include "contact_models/planar_wrench_model.hpp"
 #include "io/hdf5_file.hpp"
+#include "common/text.hpp"
 
 namespace nmdp {
 
@@ -28,7 +29,6 @@ std::string num(double x) {
   return s.str();
 }
 
-std::string shape(Eigen::Index rows, Eigen::Index cols) { return std::to_string(rows) + "x" + std::to_string(cols); }
 
 // A text field as messages show it: at most 60 characters.
 std::string shown(const std::string& text) { return text.size() <= 60 ? text : text.substr(0, 60) + "..."; }
@@ -78,7 +78,7 @@ void validateForceDataset(const ForceDataset& d, const std::string& where) {
   const Eigen::Index N = d.features.rows();
   if (N < 1 || d.features.cols() < 1)
     throw InputError(where + ": dataset '/features' must be N x F with N >= 1 samples and F >= 1 features, got " +
-                     shape(N, d.features.cols()));
+                     shapeText(N, d.features.cols()));
   if (N > limits::kMaxForceSamples)
     throw InputError(where + ": " + std::to_string(N) + " samples, more than the " + std::to_string(limits::kMaxForceSamples) +
                      " a dataset may have");
@@ -87,7 +87,7 @@ void validateForceDataset(const ForceDataset& d, const std::string& where) {
                      " entries, dataset '/features' has " + std::to_string(N) + " rows: one vertex index per sample");
   if (d.wrench.rows() != N || (d.wrench.cols() != 3 && d.wrench.cols() != 6))
     throw InputError(where + ": dataset '/wrench' must be N x 3 (F_x, F_z, tau_y) or N x 6 with N = " +
-                     std::to_string(N) + " (the rows of '/features'), got " + shape(d.wrench.rows(), d.wrench.cols()));
+                     std::to_string(N) + " (the rows of '/features'), got " + shapeText(d.wrench.rows(), d.wrench.cols()));
   checkFinite(d.features, where, "/features");
   checkFinite(d.wrench, where, "/wrench");
   for (Eigen::Index i = 0; i < N; ++i)
@@ -120,7 +120,7 @@ ForceDataset readForceDataset(const std::string& path) {
   // /vertex first: its length (one per sample) bounds what the other datasets may hold.
   const Eigen::MatrixXd vertex = file.readMatrix("/vertex", limits::kMaxForceSamples);
   if (vertex.cols() != 1)
-    fail("dataset '/vertex' must be 1-D (one index per sample), got " + shape(vertex.rows(), vertex.cols()));
+    fail("dataset '/vertex' must be 1-D (one index per sample), got " + shapeText(vertex.rows(), vertex.cols()));
   d.vertex.resize(vertex.rows());
   for (Eigen::Index i = 0; i < vertex.rows(); ++i) {
     const double v = vertex(i, 0);

@@ -7,7 +7,8 @@
 #include "common/input_error.hpp"
 #include "common/json_text.hpp"
 #include "common/limits.hpp"
-#include "io/json_params.hpp"
+#include "config/json_params.hpp"
+#include "common/text.hpp"
 
 namespace nmdp {
 
@@ -15,12 +16,6 @@ namespace {
 using json = nlohmann::json;
 using ojson = nlohmann::ordered_json;  // the resolved configuration keeps the documented key order
 constexpr double kHalfPi = 1.57079632679489661923;
-
-std::string join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
 
 [[noreturn]] void fail(const std::string& where, const std::string& key, const std::string& what) {
   throw InputError(where + ": " + key + ": " + what);

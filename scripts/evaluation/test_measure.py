@@ -1,4 +1,4 @@
-"""Unit tests of the evaluation's measures on made-up trajectories (run by tests/test_evaluation_script.cpp:
+"""Unit tests of the evaluation's measures on made-up trajectories (run by tests/evaluation/test_evaluation_script.cpp:
 python3 -m unittest discover -s scripts/evaluation -p 'test_*.py')."""
 import math
 import os

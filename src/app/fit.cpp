@@ -13,11 +13,11 @@
 #include "app/progress_bar.hpp"
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
-#include "io/json_params.hpp"
+#include "config/json_params.hpp"
 #include "io/output_path.hpp"
 #include "training/fit_config.hpp"
 #include "training/force_dataset.hpp"
-#include "training/mlp_fit.hpp"
+#include "training/mlp/mlp_fit.hpp"
 
 namespace nmdp::app {
 
@@ -36,7 +36,7 @@ const char* const kFitHelp =
     "  --data DATA         a force dataset (HDF5, training/force_dataset.hpp), a folder in the CSV layout\n"
     "                      of granular/sand_samples (features.csv, wrench_samples.csv, scalars.txt) or\n"
     "                      a .csv file in such a folder (e.g. its wrench_samples.csv)\n"
-    "  --model rbf|mlp     the model to fit: an RBF interpolant or a libtorch MLP (training/mlp_fit.hpp)\n"
+    "  --model rbf|mlp     the model to fit: an RBF interpolant or a libtorch MLP (training/mlp/mlp_fit.hpp)\n"
     "  --config FIT.json   augmentation, rbf (kernel, scaling, ridge, tail), mlp (layers, width,\n"
     "                      activation, epochs, learning rate, validation, seed, ...), geometry, as a\n"
     "                      file or an inline JSON object (training/fit_config.hpp; default: the\n"

@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "io/json_params.hpp"
+#include "config/json_params.hpp"
 
 namespace nmdp::app {
 

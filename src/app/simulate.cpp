@@ -1,8 +1,8 @@
 // nmdp simulate SCENE.json [--set key.path=value ...] [--out FILE.h5] [--quiet]
 //
-// Loads the scene (io/scene.hpp), builds the robot, contacts, contact model (registry), terrain,
+// Loads the scene (sim/scene.hpp), builds the robot, contacts, contact model (registry), terrain,
 // gains and gait, and steps the integrator for the scene's duration, writing every recorded step
-// to HDF5 as it goes (io/trajectory_writer.hpp). The file only ever holds completed steps, each
+// to HDF5 as it goes (sim/trajectory_writer.hpp). The file only ever holds completed steps, each
 // what the solver converged to: a step that fails even at the smallest sub-step, or diverges
 // (solver/energy_balance.hpp), or a disk that fills ends the run with the file keeping every
 // completed step and saying why, and so does stderr. SIGINT and SIGTERM are honoured in every phase
@@ -20,8 +20,8 @@
 #include "common/input_error.hpp"
 #include "contact_models/registry.hpp"
 #include "io/output_path.hpp"
-#include "io/scene.hpp"
-#include "io/trajectory_writer.hpp"
+#include "sim/scene.hpp"
+#include "sim/trajectory_writer.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/urdf_loader.hpp"
 #include "solver/integrator.hpp"

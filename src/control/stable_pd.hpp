@@ -19,7 +19,7 @@
 //
 // The stiffness is "stable" because it is evaluated at the new state: the 1-DOF backward-Euler
 // recursion I(θ − q_n)/h² − I q̇_n/h = τ(θ) is unconditionally stable for K_p, K_d ≥ 0, whereas
-// explicit PD at (q_n, q̇_n) diverges once h exceeds ~2/ω (tests/test_stable_pd.cpp).
+// explicit PD at (q_n, q̇_n) diverges once h exceeds ~2/ω (tests/control/test_stable_pd.cpp).
 //
 // Base coordinates (Body::is_base) are unactuated: their gains and τ_ff are zero. A coordinate whose
 // K_p, K_d and τ_ff are all zero is skipped outright — it gets exactly zero torque, zero potential,

@@ -11,7 +11,7 @@ namespace nmdp::h5 {
 inline void silenceHdf5() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 
 // Opens an HDF5 file read-only; -1 if it cannot be opened. A trajectory whose writer was killed is
-// still marked open for writing by its SWMR writer (io/trajectory_writer.hpp): plain opening refuses
+// still marked open for writing by its SWMR writer (sim/trajectory_writer.hpp): plain opening refuses
 // it ("file is already open for write") and SWMR reading (H5F_ACC_SWMR_READ, h5py's swmr=True) opens
 // it, so that is tried second. A SWMR reader retries a metadata block whose checksum fails, as one
 // the writer may be rewriting, with a sleep that doubles each time; 100 tries by default (hours):

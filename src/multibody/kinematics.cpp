@@ -1,5 +1,7 @@
 #include "multibody/kinematics.hpp"
 
+#include "multibody/base_chart.hpp"
+
 namespace nmdp {
 
 namespace {
@@ -133,27 +135,10 @@ void addJacobianTransposeWrenchDerivative(const Model& model, const Data& data, 
   }
 }
 
-void rebaseFloatingChart(const Model& model, Data& data, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> qd) {
-  if (model.base != BaseType::Floating) return;
-  const Mat3 Rx = rotationAbout(Vec3::UnitX(), q[3]);
-  const Mat3 Ry = rotationAbout(Vec3::UnitY(), q[4]);
-  const Mat3 Rz = rotationAbout(Vec3::UnitZ(), q[5]);
-  // Angular velocity of the base in its own frame; at zero angles it equals the new angle rates.
-  const Vec3 omega = (Ry * Rz).transpose() * Vec3::UnitX() * qd[3] + Rz.transpose() * Vec3::UnitY() * qd[4] + Vec3::UnitZ() * qd[5];
-  data.base_chart = data.base_chart * Rx * Ry * Rz;
-  // Keep the chart a rotation despite round-off accumulated over many steps.
-  const Eigen::Quaterniond qn(data.base_chart);
-  data.base_chart = qn.normalized().toRotationMatrix();
-  q.segment<3>(3).setZero();
-  qd.segment<3>(3) = omega;
-}
-
 void basePose(const Model& model, const Data& data, Vec3& position, Vec3& rpy) {
   Mat3 R;
   linkPose(model, data, model.root_link, R, position);
-  rpy.y() = std::asin(std::clamp(-R(2, 0), -1.0, 1.0));
-  rpy.x() = std::atan2(R(2, 1), R(2, 2));
-  rpy.z() = std::atan2(R(1, 0), R(0, 0));
+  rpy = rpyOf(R);
 }
 
 }  // namespace nmdp

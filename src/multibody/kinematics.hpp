@@ -29,9 +29,6 @@ void spatialJacobianDerivative(const Model& model, const Data& data, int body, c
 void addJacobianTransposeWrenchDerivative(const Model& model, const Data& data, int body, const Vec3& point_world,
                                           const Vec6& wrench, Eigen::Ref<Eigen::MatrixXd> out);
 
-// Floating base only: folds the three base angles into Data::base_chart and sets them to zero,
-// converting their rates so that the world motion (pose and spatial velocity) is unchanged.
-void rebaseFloatingChart(const Model& model, Data& data, Eigen::Ref<Eigen::VectorXd> q, Eigen::Ref<Eigen::VectorXd> qd);
 
 // World pose of the robot's root link as position and roll-pitch-yaw (ZYX) angles.
 void basePose(const Model& model, const Data& data, Vec3& position, Vec3& rpy);

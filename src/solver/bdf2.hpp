@@ -15,7 +15,10 @@
 // from the state's velocity rather than from q_prev as at order 1).
 #pragma once
 
-#include "solver/integrator_types.hpp"
+#include "config/integrator_options.hpp"
+#include "solver/simulation_state.hpp"
+#include "solver/step_stats.hpp"
+#include "solver/system.hpp"
 
 namespace nmdp {
 

@@ -6,6 +6,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "multibody/base_chart.hpp"
 #include "multibody/crba.hpp"
 #include "multibody/kinematics.hpp"
 #include "solver/bdf2.hpp"
@@ -14,24 +15,6 @@ namespace nmdp {
 
 namespace {
 
-constexpr struct {
-  Method method;
-  const char* name;
-} kMethods[] = {{Method::NePgm, "ne-pgm"},
-                {Method::NeZopgm, "ne-zopgm"},
-                {Method::PbdPgm, "pbd-pgm"},
-                {Method::PbdZopgm, "pbd-zopgm"},
-                {Method::NeMdp, "ne-mdp"}};
-
-// Base angles (x, y, z) of R = Rx(a) Ry(b) Rz(c).
-Vec3 xyzAngles(const Mat3& R) {
-  return Vec3(std::atan2(-R(1, 2), R(2, 2)), std::asin(std::clamp(R(0, 2), -1.0, 1.0)), std::atan2(-R(0, 1), R(0, 0)));
-}
-
-Mat3 xyzRotation(const Eigen::VectorXd& q) {
-  return rotationAbout(Vec3::UnitX(), q[3]) * rotationAbout(Vec3::UnitY(), q[4]) * rotationAbout(Vec3::UnitZ(), q[5]);
-}
-
 // The middle base angle approaches gimbal lock at ±π/2; re-centre the chart well before.
 constexpr double kRebaseAngle = 0.75;
 
@@ -39,11 +22,11 @@ void rebaseIfNeeded(const Model& model, Data& data, SimulationState& state) {
   if (model.base != BaseType::Floating) return;
   if (std::abs(state.q[4]) < kRebaseAngle) return;
   const Mat3 old_chart = state.base_chart;
-  const Mat3 R_prev = old_chart * xyzRotation(state.q_prev);
+  const Mat3 R_prev = old_chart * baseAnglesRotation(state.q_prev.segment<3>(3));
   data.base_chart = old_chart;
   rebaseFloatingChart(model, data, state.q, state.qd);
   state.base_chart = data.base_chart;
-  state.q_prev.segment<3>(3) = xyzAngles(state.base_chart.transpose() * R_prev);
+  state.q_prev.segment<3>(3) = baseAnglesOf(state.base_chart.transpose() * R_prev);
   state.second_order_history = false;  // q̇_prev's base angle rates belong to the old chart
 }
 
@@ -262,53 +245,6 @@ bool controlledSteps(Recursion& recursion, SimulationState& state, double dt, co
 }
 
 }  // namespace
-
-const char* methodName(Method method) {
-  for (const auto& m : kMethods)
-    if (m.method == method) return m.name;
-  return "unknown";
-}
-
-std::optional<Method> parseMethod(const std::string& name) {
-  for (const auto& m : kMethods)
-    if (name == m.name) return m.method;
-  return std::nullopt;
-}
-
-const std::vector<std::string>& methodNames() {
-  static const std::vector<std::string> names = [] {
-    std::vector<std::string> v;
-    for (const auto& m : kMethods) v.emplace_back(m.name);
-    return v;
-  }();
-  return names;
-}
-
-const char* kineticEnergyName(KineticEnergyMeasure k) {
-  switch (k) {
-    case KineticEnergyMeasure::FullBody: return "full-body";
-    case KineticEnergyMeasure::ContactPoints: return "contact-points";
-    case KineticEnergyMeasure::FullBodyPd: return "full-body-pd";
-  }
-  return "?";
-}
-
-std::optional<KineticEnergyMeasure> parseKineticEnergy(const std::string& name) {
-  if (name == "full-body") return KineticEnergyMeasure::FullBody;
-  if (name == "contact-points") return KineticEnergyMeasure::ContactPoints;
-  if (name == "full-body-pd") return KineticEnergyMeasure::FullBodyPd;
-  return std::nullopt;
-}
-
-const char* zerothOrderJacobianName(ZerothOrderJacobian z) {
-  return z == ZerothOrderJacobian::FiniteDifference ? "finite-difference" : "dropped";
-}
-
-std::optional<ZerothOrderJacobian> parseZerothOrderJacobian(const std::string& name) {
-  if (name == "finite-difference") return ZerothOrderJacobian::FiniteDifference;
-  if (name == "dropped") return ZerothOrderJacobian::Dropped;
-  return std::nullopt;
-}
 
 const char* toString(StepStatus status) {
   switch (status) {

@@ -24,7 +24,10 @@
 
 #include "control/pd_target_source.hpp"
 #include "solver/energy_balance.hpp"
-#include "solver/integrator_types.hpp"
+#include "config/integrator_options.hpp"
+#include "solver/simulation_state.hpp"
+#include "solver/step_stats.hpp"
+#include "solver/system.hpp"
 #include "solver/local_error.hpp"
 #include "solver/step_solver.hpp"
 

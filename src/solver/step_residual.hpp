@@ -25,7 +25,10 @@
 #include "multibody/data.hpp"
 #include "multibody/pbd_terms.hpp"
 #include "solver/bdf2.hpp"
-#include "solver/integrator_types.hpp"
+#include "config/integrator_options.hpp"
+#include "solver/simulation_state.hpp"
+#include "solver/step_stats.hpp"
+#include "solver/system.hpp"
 
 namespace nmdp {
 

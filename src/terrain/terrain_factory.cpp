@@ -10,6 +10,7 @@
 #include "terrain/heightfield.hpp"
 #include "terrain/plane.hpp"
 #include "terrain/procedural.hpp"
+#include "common/text.hpp"
 
 namespace nmdp {
 
@@ -19,12 +20,6 @@ const std::vector<std::string> kPlaneKeys = {"type", "normal", "offset"};
 const std::vector<std::string> kHeightfieldKeys = {"type", "file", "origin", "spacing", "offset"};
 const std::vector<std::string> kProceduralKeys = {"type", "slope", "offset", "hills"};
 const std::vector<std::string> kHillKeys = {"centre", "height", "width"};
-
-std::string join(const std::vector<std::string>& items) {
-  std::string out;
-  for (const std::string& s : items) out += (out.empty() ? "" : ", ") + s;
-  return out;
-}
 
 [[noreturn]] void fail(const ConfigContext& ctx, const std::string& key, const std::string& what) {
   throw InputError(ctx.where + (key.empty() ? "" : "." + key) + ": " + what);

@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "io/json_params.hpp"
+#include "config/json_params.hpp"
 #include "terrain/terrain.hpp"
 
 namespace nmdp {
