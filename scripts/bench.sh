@@ -31,7 +31,7 @@ contact_repetitions=${NMDP_BENCH_CONTACT_REPETITIONS:-10}
 source_commit=$(git rev-parse --short HEAD 2>/dev/null || echo unknown)
 source_dirty=$(git status --porcelain --untracked-files=no 2>/dev/null | head -c1 || true)
 cmake -S . -B "$build_dir" -DCMAKE_BUILD_TYPE=Release -DNMDP_BUILD_BENCH=ON >/dev/null
-# The benchmarks this page reports. bench_fit (issue 6's fit times) and bench_mujoco (issue 7's
+# The benchmarks this page reports. bench_fit (the fit times) and bench_mujoco (the
 # side-by-side run, which writes docs/results/mujoco_a1.md) run on their own.
 # A missing one fails the build below rather than leaving the page silently short of it.
 targets=(bench_multibody bench_contact_models bench_integrator)
@@ -420,13 +420,13 @@ if fastest:
     out.append("")
 print("\n".join(out))
 PY
-# The integrator (issue 4): whole simulated steps of a trotting quadruped, which Google Benchmark's
+# The integrator: whole simulated steps of a trotting quadruped, which Google Benchmark's
 # fixed-input loop does not fit; the binary interleaves its repeated runs itself.
 echo "running bench_integrator (${NMDP_BENCH_INTEGRATOR_REPEATS:-3} interleaved runs per method) ..." >&2
 {
   echo "## The integrator: the project's quadruped trotting (bench/bench_integrator.cpp)"
   echo
-  echo "Target (issue 4): ne-pgm at most 0.5 ms per 50 ms step, the zeroth-order variants at most 3× their"
+  echo "Target: ne-pgm at most 0.5 ms per 50 ms step, the zeroth-order variants at most 3× their"
   echo "first-order twins, no heap allocation inside a step once warmed up."
   echo
   "${pin[@]}" "$build_dir/bench/bench_integrator" --repeats "${NMDP_BENCH_INTEGRATOR_REPEATS:-3}"

@@ -1,4 +1,4 @@
-// `nmdp fit` as a new user runs it first (issue 28, "a first fit is physical"):
+// `nmdp fit` as a new user runs it first:
 //  * acceptance: `nmdp fit --data ../shared/granular/sand_samples --model rbf|mlp --out m.h5` with no
 //    configuration gives a model whose largest wrench 1 cm above the surface is below 1 % of its
 //    largest wrench 3 cm below, at several angles (`nmdp wrench --depth 0.01` against `--depth

@@ -1,4 +1,4 @@
-// `nmdp fit` end to end (issue 6): CSV → dataset → fit → a model file that the contact-model
+// `nmdp fit` end to end: CSV → dataset → fit → a model file that the contact-model
 // registry and `nmdp simulate` load with no other step; the report on stdout and in the file;
 // `--model mlp` trains an MLP that loads as {"type": "mlp"}; bad data and bad configurations exit 1 with one line naming the
 // file and the field.

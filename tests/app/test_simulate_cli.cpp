@@ -400,7 +400,7 @@ TEST(SimulateCli, RoboSimianJumpsAndLandsUpright) {
   EXPECT_EQ(jumps, 5);
 }
 
-// The quadruped's jump scenes at dt = 1 ms, the reference step of issue 7's evaluation: one cycle
+// The quadruped's jump scenes at dt = 1 ms: one cycle
 // (2 s) leaves the ground, stays upright and lands on four loaded feet. With the scenes' earlier
 // timing (period 1 s, a 90 ms push-off) the robot rose 0.5 m and flipped over in the air at 1 ms.
 class QuadrupedJumpScene : public ::testing::TestWithParam<std::string> {};

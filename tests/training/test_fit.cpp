@@ -1,4 +1,4 @@
-// Fitting wrench spaces from force data (DESIGN.md §9, issue 6), the library half (training/):
+// Fitting wrench spaces from force data (DESIGN.md §9), the library half (training/):
 //  * acceptance: 3 × ../shared/granular/sand_samples with the published augmentation, a thin-plate
 //    kernel and diag(5, 1) reproduce the published model within 1 % of the largest wrench at random
 //    points of the valid range;

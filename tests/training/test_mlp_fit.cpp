@@ -1,4 +1,4 @@
-// MLP fitting of wrench spaces (issue 6, the MLP half; training/mlp/mlp_fit.hpp):
+// MLP fitting of wrench spaces (training/mlp/mlp_fit.hpp):
 //  * acceptance: an MLP trained on 3 × ../shared/granular/sand_samples with the published
 //    augmentation (data/granular/sand_mlp_fit.json) stays within 10 % of the published RBF model
 //    at random points of the valid range (depth −0.07..0, angle −0.9..0.9), measured as the RBF
