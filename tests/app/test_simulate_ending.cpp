@@ -17,6 +17,7 @@
 #include <fstream>
 #include <thread>
 
+#include "child_process.hpp"
 #include "io/hdf5_file.hpp"
 #include "sim/trajectory_writer.hpp"
 #include "test_cli.hpp"
@@ -61,19 +62,7 @@ struct Child {
   pid_t pid = -1;
   std::string err;
 };
-Child spawn(const std::vector<std::string>& args, const std::string& err) {
-  Child c{::fork(), err};
-  if (c.pid != 0) return c;
-  const int null = ::open("/dev/null", O_RDWR), e = ::open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-  ::dup2(null, 0);
-  ::dup2(null, 1);
-  ::dup2(e, 2);
-  std::vector<char*> argv;
-  for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
-  argv.push_back(nullptr);
-  ::execv(argv[0], argv.data());
-  ::_exit(127);
-}
+Child spawn(const std::vector<std::string>& args, const std::string& err) { return Child{startProcess(args, err), err}; }
 bool waitFor(const std::function<bool()>& condition, double seconds) {
   const auto start = std::chrono::steady_clock::now();
   while (!condition()) {
