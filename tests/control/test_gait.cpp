@@ -1,14 +1,15 @@
-// Gait targets (DESIGN.md 5): cubic Hermite keyframes whose velocity is the true time derivative,
-// leg IK on the project's quadruped, A1 and Solo-12, and the stand / trot / jump generators; the
-// planar legs of RoboSimian in the paper's configuration, standing from a bent nominal pose.
+// Gait targets (DESIGN.md 5): leg IK on the project's quadruped, A1 and Solo-12, and the stand /
+// trot / jump generators built on it, with the ground-speed swing; RoboSimian's planar legs:
+// test_gait_robosimian.cpp; the keyframe splines: test_hermite_spline.cpp.
+#include <algorithm>
 #include <cmath>
-#include <fstream>
-#include <nlohmann/json.hpp>
 
 #include "control/gait.hpp"
 #include "control/hermite_spline.hpp"
 #include "control/leg_ik.hpp"
+#include "foot_displacements.hpp"
 #include "multibody/kinematics.hpp"
+#include "spline_derivative.hpp"
 #include "test_support.hpp"
 
 #define NMDP_COUNT_OPERATOR_NEW
@@ -17,174 +18,6 @@
 
 namespace nmdp::test {
 namespace {
-
-constexpr double kDerivativeStep = 1e-6;  // s, central differences in time
-
-Eigen::VectorXd positionAt(const HermiteSpline& spline, double t) {
-  Eigen::VectorXd p, v;
-  spline.evaluate(t, p, v);
-  return p;
-}
-Eigen::VectorXd velocityAt(const HermiteSpline& spline, double t) {
-  Eigen::VectorXd p, v;
-  spline.evaluate(t, p, v);
-  return v;
-}
-Eigen::VectorXd centralVelocity(const HermiteSpline& spline, double t) {
-  return (positionAt(spline, t + kDerivativeStep) - positionAt(spline, t - kDerivativeStep)) / (2 * kDerivativeStep);
-}
-
-// Non-uniform durations (0.1 s to 2.3 s) make a missing division by the duration obvious.
-struct SplineCase {
-  std::vector<double> times{-0.4, -0.3, 0.4, 2.7, 3.0};
-  std::vector<Eigen::VectorXd> positions;
-  SplineCase() {
-    std::mt19937 rng(11);
-    for (size_t k = 0; k < times.size(); ++k) positions.push_back(randomVector(rng, 3, 2.0));
-  }
-};
-
-// Times to probe: keyframes, either side of them, and inside every segment.
-std::vector<double> probeTimes(const std::vector<double>& knots) {
-  std::vector<double> out;
-  for (size_t k = 0; k < knots.size(); ++k) {
-    out.push_back(knots[k]);
-    out.push_back(knots[k] + 1e-4);
-    out.push_back(knots[k] - 1e-4);
-    if (k + 1 < knots.size())
-      for (double s : {0.13, 0.5, 0.77}) out.push_back(knots[k] + s * (knots[k + 1] - knots[k]));
-  }
-  return out;
-}
-
-// ṗ against central differences of p. The spline is C¹ but not C² at the knots, so a difference
-// straddling a knot is off by up to step·max|p̈|/2; that bound (p̈ from wider second differences
-// either side) is added to the tolerance. A velocity that forgot to divide by the segment duration
-// is off by O(|ṗ|), far beyond it.
-void expectVelocityIsTimeDerivative(const HermiteSpline& spline, const std::vector<double>& times) {
-  constexpr double wide = 1e-4;
-  for (double t : times) {
-    const Eigen::VectorXd v = velocityAt(spline, t), fd = centralVelocity(spline, t);
-    double curvature = 0;
-    for (double side : {-1.0, 1.0}) {
-      const double c = t + side * 2 * wide;
-      const Eigen::VectorXd second =
-          (positionAt(spline, c + wide) - 2 * positionAt(spline, c) + positionAt(spline, c - wide)) / (wide * wide);
-      curvature = std::max(curvature, second.cwiseAbs().maxCoeff());
-    }
-    const double tolerance = 1e-7 * std::max(1.0, fd.cwiseAbs().maxCoeff()) + kDerivativeStep * curvature;
-    EXPECT_LT((v - fd).cwiseAbs().maxCoeff(), tolerance)
-        << "t = " << t << "\nvelocity " << v.transpose() << "\ncentral difference " << fd.transpose();
-  }
-}
-
-TEST(HermiteSpline, HitsKeyframesExactly) {
-  const SplineCase c;
-  for (SplineEndMode mode : {SplineEndMode::HoldEnds, SplineEndMode::Periodic}) {
-    const HermiteSpline spline(c.times, c.positions, {}, mode, 4.1);
-    for (size_t k = 0; k < c.times.size(); ++k)
-      EXPECT_EQ(positionAt(spline, c.times[k]), c.positions[k]) << "keyframe " << k;
-  }
-}
-
-TEST(HermiteSpline, VelocityIsTheTimeDerivativeOfPosition) {
-  const SplineCase c;
-  const HermiteSpline automatic(c.times, c.positions);
-  expectVelocityIsTimeDerivative(automatic, probeTimes(c.times));
-
-  std::mt19937 rng(5);
-  std::vector<Eigen::VectorXd> velocities;
-  for (size_t k = 0; k < c.times.size(); ++k) velocities.push_back(randomVector(rng, 3, 3.0));
-  const HermiteSpline given(c.times, c.positions, velocities);
-  // Holding the end positions with nonzero given end velocities makes ṗ jump at the two ends.
-  std::vector<double> inside;
-  for (double t : probeTimes(c.times))
-    if (t > c.times.front() + 1e-5 && t < c.times.back() - 1e-5) inside.push_back(t);
-  expectVelocityIsTimeDerivative(given, inside);
-  for (size_t k = 0; k < c.times.size(); ++k) {
-    EXPECT_EQ(given.slope(static_cast<int>(k)), velocities[k]);
-    if (k > 0 && k + 1 < c.times.size()) {  // ends hold: velocity 0 from outside
-      EXPECT_LT((velocityAt(given, c.times[k]) - velocities[k]).norm(), 1e-12) << "keyframe " << k;
-    }
-  }
-}
-
-TEST(HermiteSpline, PeriodicWrapIsSmoothAndRepeats) {
-  const SplineCase c;
-  const double period = 4.1;  // the wrap segment 3.0 → 3.7 is 0.7 s long
-  const HermiteSpline spline(c.times, c.positions, {}, SplineEndMode::Periodic, period);
-  ASSERT_EQ(spline.knotTimes().back(), c.times.front() + period);
-  std::vector<double> probes = probeTimes(spline.knotTimes());
-  for (double t : {-9.1, -4.5, 5.3, 12.0}) probes.push_back(t);
-  expectVelocityIsTimeDerivative(spline, probes);
-  for (double t : probes) {
-    EXPECT_LT((positionAt(spline, t + period) - positionAt(spline, t)).norm(), 1e-12) << t;
-    EXPECT_LT((positionAt(spline, t - 3 * period) - positionAt(spline, t)).norm(), 1e-12) << t;
-    EXPECT_LT((velocityAt(spline, t + period) - velocityAt(spline, t)).norm(), 1e-9) << t;
-  }
-  EXPECT_LT((positionAt(spline, c.times.front() + period) - c.positions.front()).norm(), 1e-12);
-}
-
-TEST(HermiteSpline, AutomaticSlopesAreExactForQuadratics) {
-  // p(t) = 3t² − t: the parabola slopes reproduce ṗ at interior keyframes whatever the spacing,
-  // and a Hermite cubic with exact slopes reproduces the quadratic everywhere.
-  const std::vector<double> times{0.0, 0.2, 0.9, 1.0, 2.5};
-  std::vector<Eigen::VectorXd> positions;
-  for (double t : times) positions.push_back(Eigen::VectorXd::Constant(1, 3 * t * t - t));
-  const HermiteSpline spline(times, positions);
-  for (int k = 1; k + 1 < static_cast<int>(times.size()); ++k)
-    EXPECT_NEAR(spline.slope(k)[0], 6 * times[k] - 1, 1e-12) << "keyframe " << k;
-  for (double t : {0.4, 0.95})
-    EXPECT_NEAR(positionAt(spline, t)[0], 3 * t * t - t, 1e-12);
-  // Uniform spacing: the Catmull–Rom slope.
-  const HermiteSpline uniform({0, 1, 2}, {Eigen::VectorXd::Constant(1, 1.0), Eigen::VectorXd::Constant(1, 5.0),
-                                          Eigen::VectorXd::Constant(1, 2.0)});
-  EXPECT_NEAR(uniform.slope(1)[0], (2.0 - 1.0) / 2.0, 1e-15);
-}
-
-TEST(HermiteSpline, HoldEndsOutsideTheKeyframes) {
-  const SplineCase c;
-  const HermiteSpline spline(c.times, c.positions);
-  EXPECT_EQ(positionAt(spline, -10.0), c.positions.front());
-  EXPECT_EQ(positionAt(spline, 10.0), c.positions.back());
-  EXPECT_TRUE(velocityAt(spline, -10.0).isZero(0.0));
-  EXPECT_TRUE(velocityAt(spline, 10.0).isZero(0.0));
-  EXPECT_LT(velocityAt(spline, c.times.back() - 1e-9).norm(), 1e-6);  // continuous into the hold
-  const HermiteSpline single({1.0}, {c.positions[0]});
-  EXPECT_EQ(positionAt(single, 7.0), c.positions[0]);
-  EXPECT_TRUE(velocityAt(single, 0.5).isZero(0.0));
-}
-
-TEST(HermiteSpline, RejectsBadKeyframes) {
-  const Eigen::VectorXd a = Eigen::VectorXd::Zero(2), b = Eigen::VectorXd::Ones(2), c = Eigen::VectorXd::Ones(3);
-  EXPECT_THROW(HermiteSpline({}, {}), std::invalid_argument);
-  EXPECT_THROW(HermiteSpline({0.0, 0.0}, {a, b}), std::invalid_argument);
-  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a}), std::invalid_argument);
-  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a, c}), std::invalid_argument);
-  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a, b}, {a}), std::invalid_argument);
-  EXPECT_THROW(HermiteSpline({0.0, 1.0}, {a, b}, {}, SplineEndMode::Periodic, 1.0), std::invalid_argument);
-  EXPECT_THROW(HermiteSpline({0.0, NAN}, {a, b}), std::invalid_argument);
-  try {
-    HermiteSpline({0.0, 1.0, 0.5}, {a, b, a});
-    ADD_FAILURE() << "no exception";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("keyframe 2"), std::string::npos) << e.what();
-  }
-}
-
-TEST(KeyframePdTarget, EvaluatesTheSplineWithoutAllocating) {
-  const SplineCase c;
-  const KeyframePdTarget target(c.times, c.positions, {}, SplineEndMode::Periodic, 4.1);
-  const PdTargetSource& source = target;
-  PdTarget out{Eigen::VectorXd::Zero(3), Eigen::VectorXd::Zero(3)};
-  double t = 0.0;
-  const AllocationCount count = allocationsOf([&] {
-    for (int i = 0; i < 100; ++i, t += 0.0731) source.evaluate(t, out);
-  });
-  EXPECT_EQ(count.total(), 0) << count.news << " operator new, " << count.mallocs << " malloc";
-  source.evaluate(c.times[2], out);
-  EXPECT_EQ(out.position, c.positions[2]);
-}
 
 // --- legs and IK ------------------------------------------------------------------------------
 
@@ -300,16 +133,6 @@ TEST_P(QuadrupedTest, StandingPosePutsFeetUnderTheHipsAtTheHeight) {
   const StandingPose same = standingPose(model, legs, nominal);
   EXPECT_NEAR(same.height, pose.height, 1e-9);
   EXPECT_LT((same.q - pose.q).norm(), 1e-7);
-}
-
-// Foot displacements from standing, by FK of the target joints with the trunk fixed.
-std::array<Vec3, 4> footDisplacements(const Model& model, const QuadrupedLegs& legs, const StandingPose& pose,
-                                      LegIkSolver& ik, const PdTargetSource& source, double t) {
-  PdTarget out{Eigen::VectorXd::Zero(model.nq), Eigen::VectorXd::Zero(model.nq)};
-  source.evaluate(t, out);
-  std::array<Vec3, 4> d;
-  for (int id = 0; id < 4; ++id) d[id] = ik.footInTrunk(legs.legs[id], out.position) - pose.feet[id];
-  return d;
 }
 
 TEST_P(QuadrupedTest, TrotFeetTraceTheDesignedPath) {
@@ -480,133 +303,6 @@ INSTANTIATE_TEST_SUITE_P(Robots, QuadrupedTest, ::testing::ValuesIn(kQuadrupeds)
 // axes, ~ world y), stretched out level at q = 0, so it stands only from a bent nominal pose. The
 // pose is the one of models/scenes/robosimian_walk_planar.json (robot.initial.joints).
 
-const char* kRoboSimian = "robots/robosimian/robosimian_caesar_new_all_active.urdf";
-
-class RoboSimianPaperTest : public ::testing::Test {
- protected:
-  void SetUp() override {
-    NMDP_REQUIRE_SHARED(kRoboSimian);
-    UrdfOptions options;
-    options.base = BaseType::Planar;
-    for (int limb = 1; limb <= 4; ++limb)
-      for (int j : {0, 1, 3, 5, 7}) options.locked_joints["limb" + std::to_string(limb) + "_joint" + std::to_string(j)] = 0.0;
-    model = loadUrdf(sharedPath(kRoboSimian), options);
-    std::ifstream scene(sourcePath("models/scenes/robosimian_walk_planar.json"));
-    const nlohmann::json joints = nlohmann::json::parse(scene).at("robot").at("initial").at("joints");
-    nominal = Eigen::VectorXd::Zero(model.nq);
-    for (auto it = joints.begin(); it != joints.end(); ++it) nominal[model.dofIndex(it.key())] = it.value().get<double>();
-    legs = identifyQuadrupedLegs(model, nominal);
-    stand.nominal_q = nominal;
-  }
-  Model model;
-  Eigen::VectorXd nominal;
-  QuadrupedLegs legs;
-  StandParameters stand;
-};
-
-TEST_F(RoboSimianPaperTest, LegsArePlanarAndStandOnlyFromTheBentPose) {
-  ASSERT_EQ(model.nq, 15);
-  LegIkSolver ik(model, readJointLimits(model));
-  for (const Leg& leg : legs.legs) {
-    ASSERT_EQ(leg.joints.size(), 3u) << leg.foot_link;
-    const Vec3 normal = ik.planeNormal(leg, nominal);
-    EXPECT_NEAR(normal.norm(), 1.0, 1e-12) << leg.foot_link;
-    EXPECT_GT(std::abs(normal.y()), 0.99) << leg.foot_link << ": the limbs move in the sagittal plane";
-    // A planar 3R Jacobian has rank 2: conditioning is measured in its plane, so a bent limb is
-    // regular and the level, straight limb of q = 0 singular.
-    EXPECT_GT(ik.conditioning(leg, nominal), 1e-2) << leg.foot_link;
-    EXPECT_LT(ik.conditioning(leg, Eigen::VectorXd::Zero(model.nq)), 1e-6) << leg.foot_link;
-  }
-  try {
-    standingPose(model, identifyQuadrupedLegs(model), {});
-    ADD_FAILURE() << "RoboSimian stood from q = 0, where its limbs stretch out level";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("cannot reach"), std::string::npos) << e.what();
-  }
-
-  // From the bent pose: the feet keep their place in the limbs' planes and all stand at the mean
-  // height of the nominal feet, which is the standing height.
-  const StandingPose pose = standingPose(model, legs, stand);
-  double mean_height = 0;
-  for (const Leg& leg : legs.legs) mean_height += 0.25 * (leg.foot_radius - ik.footInTrunk(leg, nominal).z());
-  EXPECT_NEAR(pose.height, mean_height, 1e-12);
-  EXPECT_GT(pose.height, 0.5) << "standing like a table, the trunk well above the ground";
-  for (int id = 0; id < 4; ++id) {
-    const Leg& leg = legs.legs[id];
-    const Vec3 foot = ik.footInTrunk(leg, pose.q), nominal_foot = ik.footInTrunk(leg, nominal);
-    const Vec3 normal = ik.planeNormal(leg, pose.q);
-    EXPECT_NEAR(foot.z() - leg.foot_radius, -pose.height, 1e-9) << leg.foot_link;
-    // The nominal foot lowered to the ground, reached in the plane the limb moves in.
-    const Vec3 aimed(nominal_foot.x(), nominal_foot.y(), leg.foot_radius - pose.height);
-    EXPECT_LT(((foot - aimed) - normal * normal.dot(foot - aimed)).norm(), 1e-9) << leg.foot_link;
-    EXPECT_EQ(pose.feet[id], foot) << leg.foot_link;
-    EXPECT_GT(ik.conditioning(leg, pose.q), 1e-2) << leg.foot_link;
-  }
-  EXPECT_LT((pose.q.tail(12) - nominal.tail(12)).cwiseAbs().maxCoeff(), 1e-3) << "the nominal feet are level to µm";
-}
-
-TEST_F(RoboSimianPaperTest, IkReachesInPlaneTargetsAndIgnoresTheOutOfPlaneComponent) {
-  const JointLimits limits = readJointLimits(model);
-  LegIkSolver ik(model, limits);
-  std::mt19937 rng(23);
-  std::uniform_real_distribution<double> angle(-0.3, 0.3);
-  for (int trial = 0; trial < 10; ++trial) {
-    for (const Leg& leg : legs.legs) {
-      Eigen::VectorXd reference = nominal;
-      for (int j : leg.joints) reference[j] += angle(rng);
-      const Vec3 target = ik.footInTrunk(leg, reference);
-      const Vec3 normal = ik.planeNormal(leg, nominal);
-      Eigen::VectorXd q = nominal;
-      const LegIkResult result = ik.solve(leg, target, q);
-      EXPECT_TRUE(result.converged) << leg.foot_link << " trial " << trial << ": " << result.error;
-      EXPECT_LT((ik.footInTrunk(leg, q) - target).norm(), 1e-9) << leg.foot_link;
-      // 5 cm off the plane: unreachable along the normal, reached in the plane.
-      Eigen::VectorXd off = nominal;
-      const LegIkResult off_result = ik.solve(leg, target + 0.05 * normal, off);
-      EXPECT_TRUE(off_result.converged) << leg.foot_link << ": " << off_result.error;
-      EXPECT_LT((ik.footInTrunk(leg, off) - target).norm(), 1e-9) << leg.foot_link;
-    }
-  }
-}
-
-TEST_F(RoboSimianPaperTest, TrotAndJumpFromTheBentPose) {
-  const StandingPose pose = standingPose(model, legs, stand);
-  LegIkSolver ik(model, readJointLimits(model));
-  TrotParameters trot_in;
-  trot_in.period = 1.0;
-  const TrotParameters trot = withRobotDefaults(trot_in, pose);
-  const KeyframePdTarget walk = makeTrotTarget(model, trot_in, stand);
-  // In each limb's plane the foot follows the designed path exactly at the keyframes.
-  for (double t : walk.spline().knotTimes()) {
-    const std::array<Vec3, 4> d = footDisplacements(model, legs, pose, ik, walk, t);
-    for (int id = 0; id < 4; ++id) {
-      const Vec3 miss = d[id] - trotFootDisplacement(trot, trotLegPhase(trot, static_cast<LegId>(id), t));
-      const Vec3 normal = ik.planeNormal(legs.legs[id], pose.q);
-      EXPECT_LT((miss - normal * normal.dot(miss)).norm(), 1e-9) << legIdName(static_cast<LegId>(id)) << " t = " << t;
-    }
-  }
-
-  // The default push-off comes from the straight-leg height at q = 0, meaningless here: an
-  // actionable error rather than a jump that does not leave the ground.
-  try {
-    makeJumpTarget(model, {}, stand);
-    ADD_FAILURE() << "the default jump of a robot whose legs do not hang at q = 0 was accepted";
-  } catch (const std::invalid_argument& e) {
-    EXPECT_NE(std::string(e.what()).find("give push_off_height"), std::string::npos) << e.what();
-  }
-  JumpParameters jump;
-  jump.crouch_depth = 0.15;
-  jump.push_off_height = pose.height + 0.15;
-  const KeyframePdTarget leap = makeJumpTarget(model, jump, stand);
-  const double crouch_end = jump.crouch_share * (jump.period - jump.pause);
-  const std::array<Vec3, 4> crouched = footDisplacements(model, legs, pose, ik, leap, crouch_end);
-  for (int id = 0; id < 4; ++id) {
-    const Vec3 normal = ik.planeNormal(legs.legs[id], pose.q);
-    const Vec3 miss = crouched[id] - Vec3(0, 0, 0.15);
-    EXPECT_LT((miss - normal * normal.dot(miss)).norm(), 1e-9) << legIdName(static_cast<LegId>(id));
-  }
-}
-
 // The ground-speed swing: the foot leaves and meets the ground at the stance's speed (dx/du =
 // −stride/duty, at rest on the ground when the trunk keeps the plan's pace), descends its last
 // ground_speed_share at that speed, lifts exactly as the cosine swing does, and joins the stance
@@ -687,6 +383,9 @@ TEST(Gait, ParsesTypeNames) {
   EXPECT_EQ(parseGaitType("stand"), GaitType::Stand);
   EXPECT_THROW(parseGaitType("gallop"), std::invalid_argument);
 }
+
+}  // namespace
+}  // namespace nmdp::test
 
 }  // namespace
 }  // namespace nmdp::test
