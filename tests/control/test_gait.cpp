@@ -386,6 +386,3 @@ TEST(Gait, ParsesTypeNames) {
 
 }  // namespace
 }  // namespace nmdp::test
-
-}  // namespace
-}  // namespace nmdp::test

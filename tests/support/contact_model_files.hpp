@@ -79,9 +79,10 @@ inline std::string writeMlpHdf5Raw(const TempDir& dir, const std::string& name, 
   file.writeDoubleAttribute("/mlp", "cutoff", 0.1);
   file.writeDoubleAttribute("/mlp", "cutoff_width", 0.02);
   file.writeStrings("/mlp/feature_names", {"phi", "beta"});
-  for (const auto& [key, vector] : {std::pair{"input_mean", &p.input_mean}, {"input_std", &p.input_std},
-                                     {"output_scale", &p.output_scale}, {"output_offset", &p.output_offset}})
-    file.writeVector(std::string("/mlp/") + key, *vector);
+  const std::pair<const char*, Eigen::VectorXd> vectors[] = {{"input_mean", p.input_mean}, {"input_std", p.input_std},
+                                                              {"output_scale", p.output_scale},
+                                                              {"output_offset", p.output_offset}};
+  for (const auto& [key, vector] : vectors) file.writeVector(std::string("/mlp/") + key, vector);
   for (size_t i = 0; i < p.layers.size(); ++i) {
     const std::string layer = "/mlp/layer_" + std::to_string(i);
     file.createGroup(layer);

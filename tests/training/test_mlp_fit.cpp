@@ -105,22 +105,6 @@ TEST(MlpFitAcceptance, SandSamplesWithinTenPercentOfThePublishedModel) {
 
 // ==== determinism ===============================================================================
 
-void expectSameModelFiles(const std::string& a, const std::string& b, bool same) {
-  const MlpModelFile ma = loadMlpModel(a), mb = loadMlpModel(b);
-  bool equal = ma.parameters.input_mean == mb.parameters.input_mean &&
-               ma.parameters.input_std == mb.parameters.input_std &&
-               ma.parameters.output_scale == mb.parameters.output_scale &&
-               ma.parameters.output_offset == mb.parameters.output_offset &&
-               ma.parameters.layers.size() == mb.parameters.layers.size();
-  for (size_t i = 0; equal && i < ma.parameters.layers.size(); ++i)
-    equal = ma.parameters.layers[i].weight == mb.parameters.layers[i].weight &&
-            ma.parameters.layers[i].bias == mb.parameters.layers[i].bias;
-  EXPECT_EQ(equal, same) << a << " vs " << b;
-  const h5::File fa = h5::File::openRead(a), fb = h5::File::openRead(b);
-  for (const char* d : {"/fit/history", "/fit/error", "/fit/validation"})
-    EXPECT_EQ(fa.readMatrix(d) == fb.readMatrix(d), same) << d;
-}
-
 TEST(MlpFit, SameSeedGivesTheSameModelBitForBit) {
   TempDir dir;
   const ForceDataset d = smallDataset();
