@@ -45,7 +45,7 @@ TEST(EvaluationScript, HelpNamesTheOptions) {
     EXPECT_NE(help.find(option), std::string::npos) << option << " missing from --help:\n" << help;
 }
 
-TEST(EvaluationScript, MeasuresPassTheirUnitTests) {
+TEST(EvaluationScript, PackagePassesItsUnitTests) {
   const std::string py = python();
   if (py.empty()) GTEST_SKIP() << "no python3 with h5py, numpy and matplotlib";
   TempDir dir;
