@@ -1,1 +1,1 @@
-"""The step-size evaluation behind scripts/evaluate.py: cases, runs, measures, figures and the page."""
+"""The step-size evaluation behind scripts/evaluate.py: plan (cases and runs), run, metrics, figures and the page (report)."""

@@ -1,5 +1,5 @@
 """Figures of the evaluation: per case, the distance walked (and on a floating base the yaw) over
-time for each method, one line per dt, the 1 ms reference dashed."""
+time for each method, one line per dt, the smallest dt (the reference) dashed."""
 import os
 
 import numpy as np

@@ -1,6 +1,7 @@
-// scripts/evaluate.py, the step-size evaluation: its --help, the unit tests of its measures
-// (scripts/evaluation/test_measure.py) and a smoke run of 0.2 s on the project's quadruped into a
-// temporary folder. Skipped without a python3 that has h5py, numpy and matplotlib.
+// scripts/evaluate.py, the step-size evaluation: its --help, the unit tests of its package
+// (scripts/evaluation/test_*.py), that every case's scene file runs, and a smoke run of 0.2 s on the
+// project's quadruped into a temporary folder. The Python parts are skipped without a python3 that
+// has h5py, numpy and matplotlib.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -11,6 +12,7 @@
 #include "test_temp_dir.hpp"
 
 using nmdp::test::readText;
+using nmdp::test::runNmdp;
 using nmdp::test::shellQuote;
 using nmdp::test::TempDir;
 
@@ -43,13 +45,31 @@ TEST(EvaluationScript, HelpNamesTheOptions) {
     EXPECT_NE(help.find(option), std::string::npos) << option << " missing from --help:\n" << help;
 }
 
-TEST(EvaluationScript, MeasuresPassTheirUnitTests) {
+TEST(EvaluationScript, PackagePassesItsUnitTests) {
   const std::string py = python();
   if (py.empty()) GTEST_SKIP() << "no python3 with h5py, numpy and matplotlib";
   TempDir dir;
   const std::string folder = std::string(NMDP_SOURCE_DIR) + "/scripts/evaluation";
   EXPECT_EQ(runPython(py, "-m unittest discover -s " + shellQuote(folder) + " -p 'test_*.py'", dir.file("log.txt")), 0)
       << readText(dir.file("log.txt"));
+}
+
+// Each case is a scene file under models/scenes/evaluation/ that `nmdp simulate` reads as it is (its
+// paths relative to itself); those that read ../shared are skipped where it is absent.
+TEST(EvaluationScript, EveryCaseSceneRuns) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(NMDP_SOURCE_DIR) / "models/scenes/evaluation";
+  const bool shared = fs::is_directory(fs::path(NMDP_SOURCE_DIR) / "../shared");
+  int ran = 0;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    if (entry.path().extension() != ".json") continue;
+    if (!shared && readText(entry.path().string()).find("/shared/") != std::string::npos) continue;
+    TempDir dir;
+    const auto r = runNmdp({"simulate", entry.path().string(), "--set", "duration=0.1", "--out", dir.file("run.h5"), "--quiet"}, dir);
+    EXPECT_TRUE(r.exited && r.exit_code == 0) << entry.path() << ": " << r.err;
+    ++ran;
+  }
+  EXPECT_GE(ran, 2) << "the project's own cases (quadruped, flat and sand) run without ../shared";
 }
 
 TEST(EvaluationScript, SmokeRunWritesThePageWithTheSettingsPassedThrough) {

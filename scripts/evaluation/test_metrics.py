@@ -8,7 +8,7 @@ import unittest
 import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-from evaluation import measure  # noqa: E402
+from evaluation import metrics  # noqa: E402
 
 
 def walk(speed=(0.3, 0.0), yaw_rate=0.0, duration=10.0, dt=0.01, z=0.3, drop_at=None):
@@ -22,32 +22,32 @@ def walk(speed=(0.3, 0.0), yaw_rate=0.0, duration=10.0, dt=0.01, z=0.3, drop_at=
 
 
 def row_of(d, ref=None, planar=False):
-    row = measure.motion(d, planar)
-    row["rms"] = 0.0 if ref is None else measure.rms_deviation(d, ref)
+    row = metrics.motion(d, planar)
+    row["rms"] = 0.0 if ref is None else metrics.rms_deviation(d, ref)
     return row
 
 
 class Motion(unittest.TestCase):
     def test_displacement_and_yaw(self):
-        m = measure.motion(walk(speed=(0.3, 0.4)), planar=False)
+        m = metrics.motion(walk(speed=(0.3, 0.4)), planar=False)
         self.assertTrue(m["stable"], m["why"])
         self.assertAlmostEqual(m["x"], 3.0)
         self.assertAlmostEqual(m["dxy"], 5.0)
         self.assertAlmostEqual(m["distance"], 5.0)
-        self.assertAlmostEqual(measure.motion(walk(speed=(0.3, 0.4)), planar=True)["distance"], 3.0)
+        self.assertAlmostEqual(metrics.motion(walk(speed=(0.3, 0.4)), planar=True)["distance"], 3.0)
 
     def test_yaw_is_unwrapped(self):
-        m = measure.motion(walk(yaw_rate=0.5), planar=False)  # 5 rad in 10 s: wraps once
+        m = metrics.motion(walk(yaw_rate=0.5), planar=False)  # 5 rad in 10 s: wraps once
         self.assertAlmostEqual(m["yaw"], 5.0, places=6)
 
     def test_a_fall_or_an_early_end_is_not_stable(self):
-        self.assertFalse(measure.motion(walk(drop_at=4.0), planar=False)["stable"])
+        self.assertFalse(metrics.motion(walk(drop_at=4.0), planar=False)["stable"])
         short = walk(duration=5.0)
         short["duration"] = 10.0
-        self.assertIn("ended at", measure.motion(short, planar=False)["why"])
+        self.assertIn("ended at", metrics.motion(short, planar=False)["why"])
         failed = walk()
         failed["status"] = "failed: step 3"
-        self.assertFalse(measure.motion(failed, planar=False)["stable"])
+        self.assertFalse(metrics.motion(failed, planar=False)["stable"])
 
 
 class Deviation(unittest.TestCase):
@@ -55,7 +55,7 @@ class Deviation(unittest.TestCase):
         ref = walk(dt=0.001)
         run = walk(dt=0.05)
         run["pos"][:, 1] += 0.02
-        self.assertAlmostEqual(measure.rms_deviation(run, ref), 0.02, places=9)
+        self.assertAlmostEqual(metrics.rms_deviation(run, ref), 0.02, places=9)
 
 
 class Verdict(unittest.TestCase):
@@ -64,32 +64,32 @@ class Verdict(unittest.TestCase):
         self.ref = row_of(self.ref_traj)
 
     def test_close_run_is_within(self):
-        ok, why = measure.verdict(row_of(walk(speed=(0.198, 0.0)), self.ref_traj), self.ref)
+        ok, why = metrics.verdict(row_of(walk(speed=(0.198, 0.0)), self.ref_traj), self.ref)
         self.assertTrue(ok, why)
 
     def test_each_criterion_fails_on_its_own(self):
         far = row_of(walk(speed=(0.212, 0.0)), self.ref_traj)  # 6 % further
-        self.assertEqual(measure.verdict(far, self.ref), (False, ["distance off by 6.0 %"]))
+        self.assertEqual(metrics.verdict(far, self.ref), (False, ["distance off by 6.0 %"]))
         # the same distance by another path: 0.2 m RMS sideways is 10 % of 2 m
         side = walk(speed=(0.2, 0.0))
         side["pos"][:, 1] = 0.2 * np.sign(np.sin(side["time"] * 7))
         side["pos"][-1, 1] = 0.0
-        ok, why = measure.verdict(row_of(side, self.ref_traj), self.ref)
+        ok, why = metrics.verdict(row_of(side, self.ref_traj), self.ref)
         self.assertFalse(ok)
         self.assertTrue(any(w.startswith("RMS deviation") for w in why), why)
         turned = row_of(walk(speed=(0.2, 0.0), yaw_rate=0.031), self.ref_traj)  # 0.31 rad at the end
-        ok, why = measure.verdict(turned, self.ref)
+        ok, why = metrics.verdict(turned, self.ref)
         self.assertEqual((ok, why), (False, ["|yaw| 0.31 rad"]))
 
     def test_an_unstable_reference_fails_every_row(self):
         bad_ref = row_of(walk(speed=(0.2, 0.0), drop_at=5.0))
-        ok, why = measure.verdict(row_of(walk(speed=(0.2, 0.0)), self.ref_traj), bad_ref)
+        ok, why = metrics.verdict(row_of(walk(speed=(0.2, 0.0)), self.ref_traj), bad_ref)
         self.assertFalse(ok)
         self.assertIn("the reference is not stable", why)
 
     def test_planar_distance_is_signed_x(self):
         back = row_of(walk(speed=(-0.2, 0.0)), planar=True)
-        ok, why = measure.verdict(back, row_of(self.ref_traj, planar=True))
+        ok, why = metrics.verdict(back, row_of(self.ref_traj, planar=True))
         self.assertFalse(ok)
         self.assertTrue(math.isfinite(back["distance"]) and back["distance"] < 0)
 

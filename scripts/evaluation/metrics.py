@@ -1,7 +1,9 @@
 """What is measured of a run and the verdict against its reference (the same case, variant and
-method at 1 ms). Pure functions of the trajectories, so that they can be tested on made-up ones."""
+method at the smallest dt). Pure functions of the trajectories, so that they can be tested on
+made-up ones, and rows(), which applies them to every planned run."""
 import json
 import math
+import os
 
 import numpy as np
 
@@ -115,3 +117,46 @@ def verdict(row, ref):
     if not abs(row["yaw"]) < YAW_MAX:
         reasons.append(f"|yaw| {abs(row['yaw']):.2f} rad")
     return not reasons, reasons
+
+
+def _row(run, entry, case, duration):
+    """One run's row and its trajectory (None if there is no readable output)."""
+    row = dict(case=run["case"], variant=run["variant"], method=run["method"], dt=run["dt"], key=run["key"],
+               rc=entry.get("rc") if entry else None, elapsed=entry.get("elapsed") if entry else None)
+    d = None
+    if os.path.exists(run["out"]):
+        try:
+            d = load_run(run["out"])
+            d["duration"] = duration
+        except Exception as e:  # a broken file is a result too
+            row.update(stable=False, why=f"unreadable ({e})")
+    if d is not None:
+        row.update(motion(d, case["base"] == "planar"))
+        if row["rc"] not in (0, None):
+            row.update(stable=False, why="; ".join(x for x in (f"exit {row['rc']}", row["why"]) if x))
+    elif "why" not in row:
+        row.update(stable=False, why="no output file" + (f" (exit {row['rc']})" if row["rc"] is not None else " (not run)"))
+    for k in ("x", "dxy", "yaw", "distance"):
+        row.setdefault(k, math.nan)
+    return row, d
+
+
+def rows(runs, manifest, case_by_id, duration, reference_dt):
+    """Every planned run (with its 'out' file) measured and compared with its reference, the run of
+    the same case, variant and method at reference_dt. Returns (rows, {key: trajectory})."""
+    out, data = [], {}
+    for r in runs:
+        row, d = _row(r, manifest.get(r["key"]), case_by_id[r["case"]], duration)
+        if d is not None:
+            data[r["key"]] = d
+        out.append(row)
+    for row in out:
+        ref = next((x for x in out if x["case"] == row["case"] and x["variant"] == row["variant"]
+                    and x["method"] == row["method"] and x["dt"] == reference_dt), None)
+        row["is_ref"] = ref is row
+        row["rms"] = 0.0 if row["is_ref"] else rms_deviation(data.get(row["key"]), data.get(ref["key"]) if ref else None)
+        scale = abs(ref["distance"]) if ref else math.nan
+        row["rms_rel"] = row["rms"] / scale if scale > 0 else math.nan
+        row["dist_err"] = (row["distance"] - ref["distance"]) / scale if scale > 0 else math.nan
+        row["within"], row["reasons"] = verdict(row, ref)
+    return out, data
