@@ -106,8 +106,7 @@ std::string formatRbfFitReport(const RbfFitRecord& r) {
   const PlanarPoints& pts = r.points;
   const RbfFit& fit = r.fit;
   const Eigen::Index P = pts.features.rows(), K = pts.vertexCount();
-  std::ostringstream s;
-  s << fitReportOpening("RBF", r.data, r.settings, r.from_data);
+  std::ostringstream s(fitReportOpening("RBF", r.data, r.settings, r.from_data), std::ios::ate);
   const std::array<int, 3> counts = countByOrigin(pts);
   s << "points: " << P << " (" << counts[0] << " measured, " << counts[1] << " mirrored, " << counts[2]
     << " zero-wrench above the surface), " << K << " vertices, " << (P + (fit.parameters.polynomial.size() ? 3 : 0))

@@ -137,6 +137,24 @@ TEST(Feet, QuadrupedHasFourSphereFeetUnderEveryBase) {
   }
 }
 
+// A detected foot is a complete contact point: its link index names its link, and its leg axis is
+// legAxisOf's (up the leg: +z in the quadruped's foot frames), as footContactPoints hands it on.
+TEST(Feet, DetectedFootIsACompleteContactPoint) {
+  const Model model = loadUrdf(quadrupedUrdf());
+  const auto feet = detectFeet(model);
+  const std::vector<ContactPoint> points = footContactPoints(model);
+  ASSERT_EQ(points.size(), feet.size());
+  for (size_t i = 0; i < feet.size(); ++i) {
+    const ContactPoint& p = feet[i].point;
+    EXPECT_EQ(p.link, model.linkIndex(p.name)) << p.name;
+    EXPECT_EQ(p.leg_axis, legAxisOf(model, p.link, p.offset, p.radius)) << p.name;
+    EXPECT_LT((p.leg_axis - Vec3::UnitZ()).norm(), 1e-12) << p.name;
+    EXPECT_EQ(points[i].name, p.name);
+    EXPECT_EQ(points[i].link, p.link);
+    EXPECT_EQ(points[i].leg_axis, p.leg_axis);
+  }
+}
+
 // ---------------------------------------------------------------------------------------------
 // Real robots of ../shared
 

@@ -12,8 +12,7 @@ std::string formatMlpFitReport(const MlpFitRecord& r) {
   const PlanarPoints& pts = r.points;
   const MlpFit& fit = r.fit;
   const Eigen::Index P = pts.features.rows(), K = pts.vertexCount();
-  std::ostringstream s;
-  s << fitReportOpening("MLP", r.data, r.settings, r.from_data);
+  std::ostringstream s(fitReportOpening("MLP", r.data, r.settings, r.from_data), std::ios::ate);
   const std::array<int, 3> counts = countByOrigin(pts), val_counts = countByOrigin(pts, &fit.validation);
   const int n_val = val_counts[0] + val_counts[1] + val_counts[2];
   s << "points: " << P << " (" << counts[0] << " measured, " << counts[1] << " mirrored, " << counts[2]
