@@ -1,4 +1,4 @@
-// Contact models (issue 3 targets, one core): V and dV/dξ for 4 contacts.
+// Contact models (targets, one core): V and dV/dξ for 4 contacts.
 //   Coulomb < 1 µs, the published RBF model (103 centres × 26 vertices) < 20 µs,
 //   a 2×64 MLP with autograd < 100 µs.
 #include <benchmark/benchmark.h>

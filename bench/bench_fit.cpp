@@ -1,11 +1,11 @@
-// RBF fitting (issue 6 target: a fit on the sand data under 1 s on this 2-core machine).
+// RBF fitting (target: a fit on the sand data under 1 s on this 2-core machine).
 //   FitSandRbf         group, augment (to the published model's 103 points) and fit 3 × the sand
 //                      samples with the LOO report's inverse: what `nmdp fit` computes;
 //   FitSandRbfEndToEnd the same from the CSV folder to the model file on disk (import, fit, report,
 //                      write), i.e. `nmdp fit --data granular/sand_samples ...` without process start.
 // Both need ../shared (skipped with a message when it is absent).
 //
-// MLP training (issue 6 target: 10⁴ samples under 60 s on this 2-core machine), without ../shared:
+// MLP training (target: 10⁴ samples under 60 s on this 2-core machine), without ../shared:
 //   FitMlp/P           P random feature points (depth −0.05..0 m, angle ±0.9 rad) sampled from the
 //                      project's hand-made sand model data/granular/handmade_sand_rbf.h5 (26 vertices,
 //                      so P·26 dataset rows: P = 385 gives 10 010 samples, P = 10 000 gives 260 000),

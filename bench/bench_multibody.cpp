@@ -168,22 +168,28 @@ void NeResidualWithJacobian(benchmark::State& state, Scene* s) {
   }
 }
 
+// G −= J_cᵀ f_c and ∂G/∂θ −= (∂J_cᵀ/∂θ) f_c of every foot at the kinematics in s->data.
+void addContactTerms(Scene* s) {
+  const Model& m = s->model;
+  for (size_t c = 0; c < s->feet.size(); ++c) {
+    const int link = s->feet[c];
+    const int body = m.links[link].body;
+    const Vec3 point = linkPoint(m, s->data, link, Vec3::Zero());
+    spatialJacobian(m, s->data, body, point, s->J);
+    s->G.noalias() += s->J.transpose() * s->neg_wrenches[c];
+    addJacobianTransposeWrenchDerivative(m, s->data, body, point, s->neg_wrenches[c], s->dG);
+  }
+  benchmark::DoNotOptimize(s->G.data());
+  benchmark::DoNotOptimize(s->dG.data());
+  benchmark::ClobberMemory();
+}
+
 // G(θ) = RNEA(θ, θ̇, θ̈) − Σ_c J_cᵀ f_c and ∂G/∂θ = ∂RNEA/∂q + ∂RNEA/∂q̇ / h + H / h² − Σ_c (∂J_cᵀ/∂θ) f_c.
 void NeResidualWithContactsAndJacobian(benchmark::State& state, Scene* s) {
   const Model& m = s->model;
   for (auto _ : state) {
     neInertialResidual(m, s->data, s->theta, s->q_n, s->qd_n, s->h, s->G, &s->dG);
-    for (size_t c = 0; c < s->feet.size(); ++c) {
-      const int link = s->feet[c];
-      const int body = m.links[link].body;
-      const Vec3 point = linkPoint(m, s->data, link, Vec3::Zero());
-      spatialJacobian(m, s->data, body, point, s->J);
-      s->G.noalias() += s->J.transpose() * s->neg_wrenches[c];
-      addJacobianTransposeWrenchDerivative(m, s->data, body, point, s->neg_wrenches[c], s->dG);
-    }
-    benchmark::DoNotOptimize(s->G.data());
-    benchmark::DoNotOptimize(s->dG.data());
-    benchmark::ClobberMemory();
+    addContactTerms(s);
   }
 }
 
@@ -193,17 +199,7 @@ void ContactJacobianTerms(benchmark::State& state, Scene* s) {
   const Model& m = s->model;
   forwardKinematics(m, s->data, s->theta);
   for (auto _ : state) {
-    for (size_t c = 0; c < s->feet.size(); ++c) {
-      const int link = s->feet[c];
-      const int body = m.links[link].body;
-      const Vec3 point = linkPoint(m, s->data, link, Vec3::Zero());
-      spatialJacobian(m, s->data, body, point, s->J);
-      s->G.noalias() += s->J.transpose() * s->neg_wrenches[c];
-      addJacobianTransposeWrenchDerivative(m, s->data, body, point, s->neg_wrenches[c], s->dG);
-    }
-    benchmark::DoNotOptimize(s->G.data());
-    benchmark::DoNotOptimize(s->dG.data());
-    benchmark::ClobberMemory();
+    addContactTerms(s);
   }
 }
 

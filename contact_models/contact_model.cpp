@@ -1,14 +1,14 @@
 #include "contact_models/contact_model.hpp"
 
+#include "common/named_enum.hpp"
+
 namespace nmdp {
 
-const char* derivativeSupportName(DerivativeSupport d) {
-  switch (d) {
-    case DerivativeSupport::Analytic: return "analytic";
-    case DerivativeSupport::Autograd: return "autograd";
-    case DerivativeSupport::None: return "none";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<DerivativeSupport> kDerivativeSupports[] = {
+    {DerivativeSupport::Analytic, "analytic"}, {DerivativeSupport::Autograd, "autograd"}, {DerivativeSupport::None, "none"}};
+}  // namespace
+
+const char* derivativeSupportName(DerivativeSupport d) { return nameOf(kDerivativeSupports, d); }
 
 }  // namespace nmdp

@@ -103,10 +103,8 @@ std::string PlanarWrenchModel::describe() const {
   return s.str();
 }
 
-void PlanarWrenchModel::evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain,
-                                 std::vector<ContactWrenches>& out, bool with_derivatives) const {
-  if (with_derivatives && derivative() == DerivativeSupport::None)
-    throw std::logic_error(type_ + " model has no derivative: use a zeroth-order method (ne-zopgm or pbd-zopgm)");
+void PlanarWrenchModel::evaluateRows(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                                     bool with_derivatives) const {
   const Eigen::Index B = static_cast<Eigen::Index>(frames.size());
   const int K = vertexCount();
   frames_.resize(B);
@@ -129,89 +127,102 @@ void PlanarWrenchModel::evaluate(const std::vector<ContactFrame>& frames, const 
     features_(r, 1) = frames_[b].beta;
   }
   const Eigen::Index per_point = with_derivatives ? 3 : 1;
-  if (!function_->evaluateRows(features_, count, with_derivatives, rows_)) {
-    // Generic functions: the whole batch in contact order, repacked into rows.
-    for (Eigen::Index b = 0; b < B; ++b) {
-      features_(b, 0) = frames_[b].phi;
-      features_(b, 1) = frames_[b].beta;
-      if (row_[b] >= 0) row_[b] = b;
-    }
-    function_->evaluate(features_, W_, with_derivatives ? &dW_dphi_ : nullptr, with_derivatives ? &dW_dbeta_ : nullptr);
-    rows_.resize(3 * B, 3 * K);
-    for (Eigen::Index b = 0; b < B; ++b) {
-      rows_.row(per_point * b) = W_.row(b);
-      if (!with_derivatives) continue;
-      rows_.row(3 * b + 1) = dW_dphi_.row(b);
-      rows_.row(3 * b + 2) = dW_dbeta_.row(b);
-    }
-  }
-
-  // Per contact, with the planar rows Wb = σ W (F_x, F_z, τ_y of each vertex) and
-  //   A = [[arm]× x, [arm]× n, y; x, n, 0]   (6×3: F = x F_x + n F_z, τ = y τ_y + arm × F):
-  //   V = A Wb,
-  //   dV_i = dA_i Wb + A dWb_i,  dWb_i = dφ_i (σ' W + σ ∂W/∂φ) + dβ_i σ ∂W/∂β,
-  // so A (σ' W + σ ∂W/∂φ) and A σ ∂W/∂β are formed once per vertex and shared by the six directions.
-  // Columns of 6 are split 4 + 2 so that each maps onto whole SIMD registers.
-  using V4 = Eigen::Vector4d;
-  using V2 = Eigen::Vector2d;
-  using Planar = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>>;
-  struct Columns {  // a 6×3 matrix whose (5, 2) entry is 0, rows 0..3 and 4..5
-    V4 h[3];
-    V2 t[2];
-    void set(const Vec3& arm, const Vec3& darm, const Vec3& x, const Vec3& dx, const Vec3& n, const Vec3& dn,
-             const Vec3& y) {
-      const Vec3 c0 = darm.cross(x) + arm.cross(dx), c1 = darm.cross(n) + arm.cross(dn);
-      h[0] = V4(c0[0], c0[1], c0[2], dx[0]);
-      h[1] = V4(c1[0], c1[1], c1[2], dn[0]);
-      h[2] = V4(y[0], y[1], y[2], 0.0);
-      t[0] = V2(dx[1], dx[2]);
-      t[1] = V2(dn[1], dn[2]);
-    }
-  };
+  if (function_->evaluateRows(features_, count, with_derivatives, rows_)) return;
+  // Generic functions: the whole batch in contact order, repacked into rows.
   for (Eigen::Index b = 0; b < B; ++b) {
-    ContactWrenches& o = out[b];
-    if (row_[b] < 0) {
-      o.V.setZero();
-      if (with_derivatives)
-        for (Mat6X& d : o.dV) d.setZero();
-      continue;
-    }
-    const PlanarFrame& f = frames_[b];
-    const double sigma = sigma_[b], dsigma = dsigma_[b];
-    const Eigen::Index r = per_point * row_[b];
-    const Planar W(rows_.row(r).data(), 3, K);
-    Columns A;
-    A.set(f.arm, Vec3::Zero(), f.x, f.x, f.n, f.n, f.y);  // dA's formula at (arm, x, n) gives A
-    double* v = o.V.data();
-    if (!with_derivatives) {
-      for (int k = 0; k < K; ++k, v += 6) {
-        const double w0 = sigma * W(0, k), w1 = sigma * W(1, k), w2 = sigma * W(2, k);
-        V4::Map(v) = A.h[0] * w0 + A.h[1] * w1 + A.h[2] * w2;
-        V2::Map(v + 4) = A.t[0] * w0 + A.t[1] * w1;
-      }
-      continue;
-    }
-    const Planar Wphi(rows_.row(r + 1).data(), 3, K), Wbeta(rows_.row(r + 2).data(), 3, K);
-    Columns dA[6];
-    double* dv[6];
-    for (int i = 0; i < 6; ++i) {
-      dA[i].set(f.arm, f.darm.col(i), f.x, f.dx.col(i), f.n, f.dn.col(i), f.dy.col(i));
-      dv[i] = o.dV[i].data();
-    }
-    for (int k = 0; k < K; ++k) {
+    features_(b, 0) = frames_[b].phi;
+    features_(b, 1) = frames_[b].beta;
+    if (row_[b] >= 0) row_[b] = b;
+  }
+  function_->evaluate(features_, W_, with_derivatives ? &dW_dphi_ : nullptr, with_derivatives ? &dW_dbeta_ : nullptr);
+  rows_.resize(3 * B, 3 * K);
+  for (Eigen::Index b = 0; b < B; ++b) {
+    rows_.row(per_point * b) = W_.row(b);
+    if (!with_derivatives) continue;
+    rows_.row(3 * b + 1) = dW_dphi_.row(b);
+    rows_.row(3 * b + 2) = dW_dbeta_.row(b);
+  }
+}
+
+void PlanarWrenchModel::evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                                 std::vector<ContactWrenches>& out, bool with_derivatives) const {
+  if (with_derivatives && derivative() == DerivativeSupport::None)
+    throw std::logic_error(type_ + " model has no derivative: use a zeroth-order method (ne-zopgm or pbd-zopgm)");
+  evaluateRows(frames, terrain, with_derivatives);
+  for (Eigen::Index b = 0; b < static_cast<Eigen::Index>(frames.size()); ++b) assembleWrenches(b, with_derivatives, out[b]);
+}
+
+namespace {
+
+// Per contact, with the planar rows Wb = σ W (F_x, F_z, τ_y of each vertex) and
+//   A = [[arm]× x, [arm]× n, y; x, n, 0]   (6×3: F = x F_x + n F_z, τ = y τ_y + arm × F):
+//   V = A Wb,
+//   dV_i = dA_i Wb + A dWb_i,  dWb_i = dφ_i (σ' W + σ ∂W/∂φ) + dβ_i σ ∂W/∂β,
+// so A (σ' W + σ ∂W/∂φ) and A σ ∂W/∂β are formed once per vertex and shared by the six directions.
+// Columns of 6 are split 4 + 2 so that each maps onto whole SIMD registers.
+using V4 = Eigen::Vector4d;
+using V2 = Eigen::Vector2d;
+using Planar = Eigen::Map<const Eigen::Matrix<double, 3, Eigen::Dynamic>>;
+struct Columns {  // a 6×3 matrix whose (5, 2) entry is 0, rows 0..3 and 4..5
+  V4 h[3];
+  V2 t[2];
+  void set(const Vec3& arm, const Vec3& darm, const Vec3& x, const Vec3& dx, const Vec3& n, const Vec3& dn,
+           const Vec3& y) {
+    const Vec3 c0 = darm.cross(x) + arm.cross(dx), c1 = darm.cross(n) + arm.cross(dn);
+    h[0] = V4(c0[0], c0[1], c0[2], dx[0]);
+    h[1] = V4(c1[0], c1[1], c1[2], dn[0]);
+    h[2] = V4(y[0], y[1], y[2], 0.0);
+    t[0] = V2(dx[1], dx[2]);
+    t[1] = V2(dn[1], dn[2]);
+  }
+};
+
+}  // namespace
+
+void PlanarWrenchModel::assembleWrenches(Eigen::Index b, bool with_derivatives, ContactWrenches& o) const {
+  if (row_[b] < 0) {
+    o.V.setZero();
+    if (with_derivatives)
+      for (Mat6X& d : o.dV) d.setZero();
+    return;
+  }
+  const int K = vertexCount();
+  const Eigen::Index per_point = with_derivatives ? 3 : 1;
+  const PlanarFrame& f = frames_[b];
+  const double sigma = sigma_[b], dsigma = dsigma_[b];
+  const Eigen::Index r = per_point * row_[b];
+  const Planar W(rows_.row(r).data(), 3, K);
+  Columns A;
+  A.set(f.arm, Vec3::Zero(), f.x, f.x, f.n, f.n, f.y);  // dA's formula at (arm, x, n) gives A
+  double* v = o.V.data();
+  if (!with_derivatives) {
+    for (int k = 0; k < K; ++k, v += 6) {
       const double w0 = sigma * W(0, k), w1 = sigma * W(1, k), w2 = sigma * W(2, k);
-      const double p0 = dsigma * W(0, k) + sigma * Wphi(0, k), p1 = dsigma * W(1, k) + sigma * Wphi(1, k),
-                   p2 = dsigma * W(2, k) + sigma * Wphi(2, k);
-      const double q0 = sigma * Wbeta(0, k), q1 = sigma * Wbeta(1, k), q2 = sigma * Wbeta(2, k);
-      const V4 aph = A.h[0] * p0 + A.h[1] * p1 + A.h[2] * p2, aqh = A.h[0] * q0 + A.h[1] * q1 + A.h[2] * q2;
-      const V2 apt = A.t[0] * p0 + A.t[1] * p1, aqt = A.t[0] * q0 + A.t[1] * q1;
-      V4::Map(v + 6 * k) = A.h[0] * w0 + A.h[1] * w1 + A.h[2] * w2;
-      V2::Map(v + 6 * k + 4) = A.t[0] * w0 + A.t[1] * w1;
-      for (int i = 0; i < 6; ++i) {
-        const Columns& d = dA[i];
-        V4::Map(dv[i] + 6 * k) = d.h[0] * w0 + d.h[1] * w1 + d.h[2] * w2 + f.dphi[i] * aph + f.dbeta[i] * aqh;
-        V2::Map(dv[i] + 6 * k + 4) = d.t[0] * w0 + d.t[1] * w1 + f.dphi[i] * apt + f.dbeta[i] * aqt;
-      }
+      V4::Map(v) = A.h[0] * w0 + A.h[1] * w1 + A.h[2] * w2;
+      V2::Map(v + 4) = A.t[0] * w0 + A.t[1] * w1;
+    }
+    return;
+  }
+  const Planar Wphi(rows_.row(r + 1).data(), 3, K), Wbeta(rows_.row(r + 2).data(), 3, K);
+  Columns dA[6];
+  double* dv[6];
+  for (int i = 0; i < 6; ++i) {
+    dA[i].set(f.arm, f.darm.col(i), f.x, f.dx.col(i), f.n, f.dn.col(i), f.dy.col(i));
+    dv[i] = o.dV[i].data();
+  }
+  for (int k = 0; k < K; ++k) {
+    const double w0 = sigma * W(0, k), w1 = sigma * W(1, k), w2 = sigma * W(2, k);
+    const double p0 = dsigma * W(0, k) + sigma * Wphi(0, k), p1 = dsigma * W(1, k) + sigma * Wphi(1, k),
+                 p2 = dsigma * W(2, k) + sigma * Wphi(2, k);
+    const double q0 = sigma * Wbeta(0, k), q1 = sigma * Wbeta(1, k), q2 = sigma * Wbeta(2, k);
+    const V4 aph = A.h[0] * p0 + A.h[1] * p1 + A.h[2] * p2, aqh = A.h[0] * q0 + A.h[1] * q1 + A.h[2] * q2;
+    const V2 apt = A.t[0] * p0 + A.t[1] * p1, aqt = A.t[0] * q0 + A.t[1] * q1;
+    V4::Map(v + 6 * k) = A.h[0] * w0 + A.h[1] * w1 + A.h[2] * w2;
+    V2::Map(v + 6 * k + 4) = A.t[0] * w0 + A.t[1] * w1;
+    for (int i = 0; i < 6; ++i) {
+      const Columns& d = dA[i];
+      V4::Map(dv[i] + 6 * k) = d.h[0] * w0 + d.h[1] * w1 + d.h[2] * w2 + f.dphi[i] * aph + f.dbeta[i] * aqh;
+      V2::Map(dv[i] + 6 * k + 4) = d.t[0] * w0 + d.t[1] * w1 + f.dphi[i] * apt + f.dbeta[i] * aqt;
     }
   }
 }

@@ -98,6 +98,12 @@ class PlanarWrenchModel : public ContactModel {
   const PlanarGeometry& geometry() const { return geometry_; }
 
  private:
+  // The planar frames and cut-off of every contact, and the feature function's rows (W, and with
+  // derivatives ∂W/∂φ, ∂W/∂β) of those below the cut-off into rows_ (row_[b] says where).
+  void evaluateRows(const std::vector<ContactFrame>& frames, const Terrain& terrain, bool with_derivatives) const;
+  // V (and dV) of contact b from its rows.
+  void assembleWrenches(Eigen::Index b, bool with_derivatives, ContactWrenches& o) const;
+
   std::shared_ptr<const FeatureWrenchFunction> function_;
   PlanarGeometry geometry_;
   std::string type_;

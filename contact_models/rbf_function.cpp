@@ -13,17 +13,15 @@
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
 #include "common/limits.hpp"
+#include "common/named_enum.hpp"
 #include "common/text.hpp"
+#include "contact_models/file_attributes.hpp"
 
 namespace nmdp {
 
 namespace {
 
-struct KernelName {
-  RbfKernel kernel;
-  const char* name;
-};
-constexpr KernelName kKernelNames[] = {
+constexpr EnumName<RbfKernel> kKernelNames[] = {
     {RbfKernel::ThinPlate, "thin_plate"},
     {RbfKernel::Gaussian, "gaussian"},
     {RbfKernel::Multiquadric, "multiquadric"},
@@ -86,27 +84,11 @@ void product(const PlanarRows& coef, const Eigen::MatrixXd& basis, Eigen::Index 
 
 }  // namespace
 
-const char* rbfKernelName(RbfKernel kernel) {
-  for (const KernelName& k : kKernelNames)
-    if (k.kernel == kernel) return k.name;
-  return "?";
-}
+const char* rbfKernelName(RbfKernel kernel) { return nameOf(kKernelNames, kernel); }
 
-bool parseRbfKernel(const std::string& name, RbfKernel* kernel) {
-  for (const KernelName& k : kKernelNames) {
-    if (name == k.name) {
-      *kernel = k.kernel;
-      return true;
-    }
-  }
-  return false;
-}
+bool parseRbfKernel(const std::string& name, RbfKernel* kernel) { return assignIfNamed(kKernelNames, name, kernel); }
 
-std::string rbfKernelNames() {
-  std::string out;
-  for (const KernelName& k : kKernelNames) out += (out.empty() ? "" : ", ") + std::string(k.name);
-  return out;
-}
+std::string rbfKernelNames() { return join(namesOf(kKernelNames), ", "); }
 
 void rbfKernel(RbfKernel kernel, double epsilon, double r2, double* kappa, double* g) {
   switch (kernel) {
@@ -418,16 +400,11 @@ RbfParameters readPublishedRbf(const std::string& inputs_path, const std::string
 
 RbfModelFile readRbfHdf5(const std::string& path) {
   const h5::File file = h5::File::openRead(path);
-  const auto fail = [&](const std::string& what) -> void { throw InputError(path + ": " + what); };
+  const FileAttributes rbf(file, path, "/rbf");
+  const auto fail = [&](const std::string& what) { rbf.fail(what); };
   if (!file.exists("/rbf"))
     fail("not an nmdp RBF model file: group '/rbf' is missing (write one with saveRbfModel or 'nmdp fit')");
-
-  if (file.hasAttribute("/rbf", "format_version")) {
-    const double version = file.readDoubleAttribute("/rbf", "format_version");
-    if (!(version >= 1.0 && version <= kFormatVersion))
-      fail("attribute 'format_version' of '/rbf' is " + std::to_string(version) + ", this program reads version " +
-           std::to_string(kFormatVersion));
-  }
+  rbf.checkFormatVersion(kFormatVersion);
 
   RbfModelFile out;
   RbfParameters& p = out.parameters;
@@ -435,21 +412,10 @@ RbfModelFile readRbfHdf5(const std::string& path) {
   if (kernel.size() != 1 || !parseRbfKernel(kernel[0], &p.spec.kernel))
     fail("dataset '/rbf/kernel' must hold one kernel name, one of " + rbfKernelNames() + "; got '" +
          (kernel.empty() ? std::string() : kernel[0]) + "'" + (kernel.size() > 1 ? " and more" : ""));
-  const auto positive = [&](const std::string& name, double fallback, bool required) {
-    if (!required && !file.hasAttribute("/rbf", name)) return fallback;
-    const double x = file.readDoubleAttribute("/rbf", name);
-    if (!(x > 0.0) || !std::isfinite(x)) fail("attribute '" + name + "' of '/rbf' must be a positive number");
-    return x;
-  };
-  const auto finite = [&](const std::string& name) {
-    const double x = file.readDoubleAttribute("/rbf", name);
-    if (!std::isfinite(x)) fail("attribute '" + name + "' of '/rbf' must be a finite number");
-    return x;
-  };
-  p.spec.epsilon = positive("epsilon", 1.0, false);
-  out.geometry.torque_centre = finite("torque_centre");
-  out.geometry.cutoff = finite("cutoff");
-  out.geometry.cutoff_width = positive("cutoff_width", 0.0, true);
+  p.spec.epsilon = rbf.positive("epsilon", 1.0, false);
+  out.geometry.torque_centre = rbf.finite("torque_centre");
+  out.geometry.cutoff = rbf.finite("cutoff");
+  out.geometry.cutoff_width = rbf.positive("cutoff_width", 0.0, true);
   if (const std::string problem = planarGeometryProblem(out.geometry); !problem.empty()) fail("attribute " + problem + " (of '/rbf')");
 
   const Eigen::MatrixXd centres = file.readMatrix("/rbf/centres", 2 * limits::kMaxRbfCentres);

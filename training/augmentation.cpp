@@ -9,6 +9,7 @@
 
 #include "common/input_error.hpp"
 #include "common/limits.hpp"
+#include "common/named_enum.hpp"
 
 namespace nmdp {
 
@@ -25,19 +26,12 @@ Eigen::Index findPoint(const Eigen::MatrixX2d& features, Eigen::Index rows, doub
     if (features(i, 0) == phi && features(i, 1) == beta) return i;
   return -1;
 }
+
+constexpr EnumName<PointOrigin> kPointOrigins[] = {
+    {PointOrigin::Measured, "measured"}, {PointOrigin::Mirrored, "mirrored"}, {PointOrigin::AboveSurface, "above_surface"}};
 }  // namespace
 
-const char* pointOriginName(PointOrigin origin) {
-  switch (origin) {
-    case PointOrigin::Measured:
-      return "measured";
-    case PointOrigin::Mirrored:
-      return "mirrored";
-    case PointOrigin::AboveSurface:
-      return "above_surface";
-  }
-  return "?";
-}
+const char* pointOriginName(PointOrigin origin) { return nameOf(kPointOrigins, origin); }
 
 const char* mirrorVerticesName(MirrorVertices m) { return m == MirrorVertices::Same ? "same" : "reversed"; }
 

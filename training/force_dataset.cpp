@@ -11,6 +11,7 @@
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
 #include "common/limits.hpp"
+#include "contact_models/file_attributes.hpp"
 #include "contact_models/planar_wrench_model.hpp"
 #include "io/hdf5_file.hpp"
 #include "common/text.hpp"
@@ -106,16 +107,12 @@ void validateForceDataset(const ForceDataset& d, const std::string& where) {
 
 ForceDataset readForceDataset(const std::string& path) {
   const h5::File file = h5::File::openRead(path);
-  const auto fail = [&](const std::string& what) { throw InputError(path + ": " + what); };
+  const FileAttributes root(file, path, "/");
+  const auto fail = [&](const std::string& what) { root.fail(what); };
   if (!file.hasAttribute("/", "nmdp_dataset") || file.readStringAttribute("/", "nmdp_dataset") != kKind)
     fail(std::string("not an nmdp force dataset: root attribute 'nmdp_dataset' must be \"") + kKind +
          "\" (write one with 'nmdp fit --import-csv FOLDER --out DATA.h5')");
-  if (file.hasAttribute("/", "format_version")) {
-    const double version = file.readDoubleAttribute("/", "format_version");
-    if (!(version >= 1.0 && version <= kFormatVersion))
-      fail("attribute 'format_version' of '/' is " + std::to_string(version) + ", this program reads version " +
-           std::to_string(kFormatVersion));
-  }
+  root.checkFormatVersion(kFormatVersion);
   ForceDataset d;
   // /vertex first: its length (one per sample) bounds what the other datasets may hold.
   const Eigen::MatrixXd vertex = file.readMatrix("/vertex", limits::kMaxForceSamples);

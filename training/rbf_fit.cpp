@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "io/hdf5_file.hpp"
+#include "training/fit_report.hpp"
 #include "common/input_error.hpp"
 #include "common/limits.hpp"
 
@@ -105,12 +106,8 @@ std::string formatRbfFitReport(const RbfFitRecord& r) {
   const PlanarPoints& pts = r.points;
   const RbfFit& fit = r.fit;
   const Eigen::Index P = pts.features.rows(), K = pts.vertexCount();
-  std::ostringstream s;
-  s << "RBF fit of " << r.data << "\n";
-  s << "settings: " << r.settings.dump() << "\n";
-  for (const std::string& d : r.from_data) s << "decided from the data: " << d << "\n";
-  int counts[3] = {0, 0, 0};
-  for (PointOrigin o : pts.origin) ++counts[static_cast<int>(o)];
+  std::ostringstream s(fitReportOpening("RBF", r.data, r.settings, r.from_data), std::ios::ate);
+  const std::array<int, 3> counts = countByOrigin(pts);
   s << "points: " << P << " (" << counts[0] << " measured, " << counts[1] << " mirrored, " << counts[2]
     << " zero-wrench above the surface), " << K << " vertices, " << (P + (fit.parameters.polynomial.size() ? 3 : 0))
     << " unknowns per component\n";

@@ -5,6 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "common/named_enum.hpp"
+
 namespace nmdp {
 
 namespace {
@@ -91,16 +93,10 @@ std::string number(double x) {
   s << x;
   return s.str();
 }
+constexpr EnumName<RftShape> kRftShapes[] = {{RftShape::Plate, "plate"}, {RftShape::Blade, "blade"}, {RftShape::Disc, "disc"}};
 }  // namespace
 
-const char* rftShapeName(RftShape shape) {
-  switch (shape) {
-    case RftShape::Plate: return "plate";
-    case RftShape::Blade: return "blade";
-    case RftShape::Disc: return "disc";
-  }
-  return "?";
-}
+const char* rftShapeName(RftShape shape) { return nameOf(kRftShapes, shape); }
 
 RftAlpha rftAlpha(const RftCoefficients& c, double beta, double gamma) {
   RftAlpha a;

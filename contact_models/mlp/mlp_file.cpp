@@ -7,6 +7,7 @@
 
 #include "common/input_error.hpp"
 #include "common/limits.hpp"
+#include "contact_models/file_attributes.hpp"
 #include "contact_models/mlp/mlp_function.hpp"
 #include "io/hdf5_file.hpp"
 #include "common/text.hpp"
@@ -32,120 +33,120 @@ std::string layerName(size_t i) { return "/mlp/layer_" + std::to_string(i); }
 constexpr int kMaxLayers = 64;
 constexpr Eigen::Index kMaxParameters = 10000000;
 
-MlpModelFile loadMlpModel(const std::string& path) {
-  const h5::File file = h5::File::openRead(path);
-  const auto fail = [&](const std::string& what) { throw InputError(path + ": " + what); };
-  if (!file.exists("/mlp"))
-    fail("not an nmdp MLP model file: group '/mlp' is missing (write one with saveMlpModel or 'nmdp fit')");
+namespace {
 
-  if (file.hasAttribute("/mlp", "format_version")) {
-    const double version = file.readDoubleAttribute("/mlp", "format_version");
-    if (!(version >= 1.0 && version <= kFormatVersion))
-      fail("attribute 'format_version' of '/mlp' is " + std::to_string(version) + ", this program reads versions 1 to " +
-           std::to_string(static_cast<int>(kFormatVersion)));
-  }
+// The attributes that say what the file holds: format version, wrench kind, activation, envelope.
+void readKind(const h5::File& file, const FileAttributes& mlp, MlpParameters& p) {
+  if (!file.exists("/mlp"))
+    mlp.fail("not an nmdp MLP model file: group '/mlp' is missing (write one with saveMlpModel or 'nmdp fit')");
+  mlp.checkFormatVersion(static_cast<int>(kFormatVersion));
   if (file.hasAttribute("/mlp", "wrench")) {
     const std::string wrench = file.readStringAttribute("/mlp", "wrench");
     if (wrench != "planar")
-      fail("attribute 'wrench' of '/mlp' is '" + wrench + "': this program reads planar models only (\"planar\", "
-           "3 outputs (F_x, F_z, tau_y) per vertex)");
+      mlp.fail("attribute 'wrench' of '/mlp' is '" + wrench + "': this program reads planar models only (\"planar\", "
+               "3 outputs (F_x, F_z, tau_y) per vertex)");
   }
-
-  MlpModelFile out;
-  MlpParameters& p = out.parameters;
   const std::string activation = file.readStringAttribute("/mlp", "activation");
   if (const std::string problem = mlpActivationProblem(activation); !problem.empty())
-    fail("attribute 'activation' of '/mlp': " + problem);
+    mlp.fail("attribute 'activation' of '/mlp': " + problem);
   parseMlpActivation(activation, &p.activation);
   if (file.hasAttribute("/mlp", "output_envelope")) {
     const std::string envelope = file.readStringAttribute("/mlp", "output_envelope");
     if (!parseMlpOutputEnvelope(envelope, &p.output_envelope))
-      fail("attribute 'output_envelope' of '/mlp' is '" + envelope + "'; valid values: \"none\" (W = N), \"depth\" "
-           "(W = (-phi) N) or \"soft_depth\" (W = w softplus(-phi/w) N)");
+      mlp.fail("attribute 'output_envelope' of '/mlp' is '" + envelope + "'; valid values: \"none\" (W = N), \"depth\" "
+               "(W = (-phi) N) or \"soft_depth\" (W = w softplus(-phi/w) N)");
     if (p.output_envelope == MlpOutputEnvelope::SoftDepth) {
       if (!file.hasAttribute("/mlp", "envelope_width"))
-        fail("output_envelope \"soft_depth\" needs the attribute 'envelope_width' of '/mlp' (m)");
+        mlp.fail("output_envelope \"soft_depth\" needs the attribute 'envelope_width' of '/mlp' (m)");
       p.envelope_width = file.readDoubleAttribute("/mlp", "envelope_width");
     }
   }
+}
 
-  const auto integer = [&](const std::string& name, double lo, double hi) {
-    const double x = file.readDoubleAttribute("/mlp", name);
-    if (!(x >= lo && x <= hi) || x != std::floor(x))
-      fail("attribute '" + name + "' of '/mlp' must be an integer in [" + std::to_string(static_cast<long>(lo)) + ", " +
-           std::to_string(static_cast<long>(hi)) + "], got " + std::to_string(x));
-    return static_cast<int>(x);
-  };
-  const auto finite = [&](const std::string& name) {
-    const double x = file.readDoubleAttribute("/mlp", name);
-    if (!std::isfinite(x)) fail("attribute '" + name + "' of '/mlp' must be a finite number");
-    return x;
-  };
-  const int layer_count = integer("layers", 1, kMaxLayers);
-  const int K = integer("vertices", 1, limits::kMaxVertices);
-  out.geometry.torque_centre = finite("torque_centre");
-  out.geometry.cutoff = finite("cutoff");
-  out.geometry.cutoff_width = finite("cutoff_width");
-  if (!(out.geometry.cutoff_width > 0.0)) fail("attribute 'cutoff_width' of '/mlp' must be positive");
-  if (const std::string problem = planarGeometryProblem(out.geometry); !problem.empty()) fail("attribute " + problem + " (of '/mlp')");
+// A vector: a 1-D dataset, or a 2-D one with a single row or column, of n finite values.
+Eigen::VectorXd readVector(const h5::File& file, const FileAttributes& mlp, const std::string& name, Eigen::Index n,
+                           const std::string& what) {
+  const Eigen::MatrixXd m = file.readMatrix(name, std::max<Eigen::Index>(4 * n, 64));  // a wrong size is named below
+  if (m.size() != n || (m.rows() != 1 && m.cols() != 1))
+    mlp.fail("dataset '" + name + "' must hold " + std::to_string(n) + " values (" + what + "), got " + shapeText(m));
+  if (const std::string bad = firstNonFinite(m); !bad.empty())
+    mlp.fail("dataset '" + name + "' has a non-finite value (NaN or inf) at " + bad);
+  return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(m.data(), n));
+}
 
-  // Vectors: a 1-D dataset, or a 2-D one with a single row or column.
-  const auto vector = [&](const std::string& name, Eigen::Index n, const std::string& what) {
-    const Eigen::MatrixXd m = file.readMatrix(name, std::max<Eigen::Index>(4 * n, 64));  // a wrong size is named below
-    if (m.size() != n || (m.rows() != 1 && m.cols() != 1))
-      fail("dataset '" + name + "' must hold " + std::to_string(n) + " values (" + what + "), got " + shapeText(m));
-    if (const std::string bad = firstNonFinite(m); !bad.empty())
-      fail("dataset '" + name + "' has a non-finite value (NaN or inf) at " + bad);
-    return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(m.data(), n));
-  };
-  p.input_mean = vector("/mlp/input_mean", 2, "mean of phi, beta");
-  p.input_std = vector("/mlp/input_std", 2, "standard deviation of phi, beta");
-  p.output_scale = vector("/mlp/output_scale", 3 * K, "3 per vertex, attribute 'vertices' = " + std::to_string(K));
-  p.output_offset = vector("/mlp/output_offset", 3 * K, "3 per vertex, attribute 'vertices' = " + std::to_string(K));
-
+// The layers 0 .. layer_count − 1, each checked against the previous one and the output size 3K.
+void readLayers(const h5::File& file, const FileAttributes& mlp, int layer_count, int K, MlpParameters& p) {
   Eigen::Index in = 2, parameters = 0;
   for (int i = 0; i < layer_count; ++i) {
     const std::string w = layerName(i) + "/weight", b = layerName(i) + "/bias";
     MlpLayer l;
     l.weight = file.readMatrix(w, kMaxParameters - parameters);
     if (i + 1 == layer_count && l.weight.rows() != 3 * K)
-      fail("dataset '" + w + "' is " + shapeText(l.weight) + ": the output layer must have 3K = " + std::to_string(3 * K) +
-           " rows (attribute 'vertices' = " + std::to_string(K) + ")");
+      mlp.fail("dataset '" + w + "' is " + shapeText(l.weight) + ": the output layer must have 3K = " +
+               std::to_string(3 * K) + " rows (attribute 'vertices' = " + std::to_string(K) + ")");
     if (l.weight.cols() != in) {
-      fail("dataset '" + w + "' is " + shapeText(l.weight) + ", expected (outputs) x " + std::to_string(in) + ": " +
-           (i == 0 ? std::string("the input is (phi, beta)")
-                   : "the previous layer " + layerName(i - 1) + " has " + std::to_string(in) + " outputs"));
+      mlp.fail("dataset '" + w + "' is " + shapeText(l.weight) + ", expected (outputs) x " + std::to_string(in) + ": " +
+               (i == 0 ? std::string("the input is (phi, beta)")
+                       : "the previous layer " + layerName(i - 1) + " has " + std::to_string(in) + " outputs"));
     }
-    l.bias = vector(b, l.weight.rows(), "one per row of '" + w + "'");
+    l.bias = readVector(file, mlp, b, l.weight.rows(), "one per row of '" + w + "'");
     parameters += l.weight.size() + l.bias.size();
     if (parameters > kMaxParameters)
-      fail("the layers up to '" + w + "' have " + std::to_string(parameters) + " weights and biases, more than the " +
-           std::to_string(kMaxParameters) + " a contact-model MLP may have");
+      mlp.fail("the layers up to '" + w + "' have " + std::to_string(parameters) + " weights and biases, more than the " +
+               std::to_string(kMaxParameters) + " a contact-model MLP may have");
     p.layers.push_back(std::move(l));
     in = p.layers.back().weight.rows();
   }
   if (file.exists(layerName(layer_count)))
-    fail("group '" + layerName(layer_count) + "' exists but attribute 'layers' of '/mlp' is " +
-         std::to_string(layer_count) + " (layers 0.." + std::to_string(layer_count - 1) + " are read)");
+    mlp.fail("group '" + layerName(layer_count) + "' exists but attribute 'layers' of '/mlp' is " +
+             std::to_string(layer_count) + " (layers 0.." + std::to_string(layer_count - 1) + " are read)");
+}
+
+// The optional feature names (checked) and zero anchors.
+void readFeaturesAndAnchors(const h5::File& file, const FileAttributes& mlp, MlpParameters& p) {
   if (file.exists("/mlp/feature_names")) {
     const std::vector<std::string> names = file.readStrings("/mlp/feature_names");
     if (names != std::vector<std::string>{"phi", "beta"})
-      fail("dataset '/mlp/feature_names' must be [\"phi\", \"beta\"]: the MLP contact model takes the signed distance "
-           "and the sagittal leg angle");
+      mlp.fail("dataset '/mlp/feature_names' must be [\"phi\", \"beta\"]: the MLP contact model takes the signed "
+               "distance and the sagittal leg angle");
   }
-  if (file.exists("/mlp/anchors")) {
-    const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors", 2 * limits::kMaxRbfCentres);
-    if (a.cols() != 2 || a.rows() < 1)
-      fail("dataset '/mlp/anchors' is " + shapeText(a) + ", expected (anchors) x 2: the points (phi, beta)");
-    if (a.rows() > limits::kMaxRbfCentres)
-      fail("dataset '/mlp/anchors' has " + std::to_string(a.rows()) + " anchors, more than the " +
-           std::to_string(limits::kMaxRbfCentres) + " a model may have");
-    p.anchors = a;
-    if (!file.hasAttribute("/mlp", "anchor_radius"))
-      fail("dataset '/mlp/anchors' needs the attribute 'anchor_radius' of '/mlp'");
-    p.anchor_radius = file.readDoubleAttribute("/mlp", "anchor_radius");
-  }
-  if (const std::string problem = mlpParameterProblem(p); !problem.empty()) fail(problem);
+  if (!file.exists("/mlp/anchors")) return;
+  const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors", 2 * limits::kMaxRbfCentres);
+  if (a.cols() != 2 || a.rows() < 1)
+    mlp.fail("dataset '/mlp/anchors' is " + shapeText(a) + ", expected (anchors) x 2: the points (phi, beta)");
+  if (a.rows() > limits::kMaxRbfCentres)
+    mlp.fail("dataset '/mlp/anchors' has " + std::to_string(a.rows()) + " anchors, more than the " +
+             std::to_string(limits::kMaxRbfCentres) + " a model may have");
+  p.anchors = a;
+  if (!file.hasAttribute("/mlp", "anchor_radius"))
+    mlp.fail("dataset '/mlp/anchors' needs the attribute 'anchor_radius' of '/mlp'");
+  p.anchor_radius = file.readDoubleAttribute("/mlp", "anchor_radius");
+}
+
+}  // namespace
+
+MlpModelFile loadMlpModel(const std::string& path) {
+  const h5::File file = h5::File::openRead(path);
+  const FileAttributes mlp(file, path, "/mlp");
+  MlpModelFile out;
+  MlpParameters& p = out.parameters;
+  readKind(file, mlp, p);
+  const int layer_count = mlp.integer("layers", 1, kMaxLayers);
+  const int K = mlp.integer("vertices", 1, limits::kMaxVertices);
+  out.geometry.torque_centre = mlp.finite("torque_centre");
+  out.geometry.cutoff = mlp.finite("cutoff");
+  out.geometry.cutoff_width = mlp.finite("cutoff_width");
+  if (!(out.geometry.cutoff_width > 0.0)) mlp.fail("attribute 'cutoff_width' of '/mlp' must be positive");
+  if (const std::string problem = planarGeometryProblem(out.geometry); !problem.empty())
+    mlp.fail("attribute " + problem + " (of '/mlp')");
+  p.input_mean = readVector(file, mlp, "/mlp/input_mean", 2, "mean of phi, beta");
+  p.input_std = readVector(file, mlp, "/mlp/input_std", 2, "standard deviation of phi, beta");
+  const std::string per_vertex = "3 per vertex, attribute 'vertices' = " + std::to_string(K);
+  p.output_scale = readVector(file, mlp, "/mlp/output_scale", 3 * K, per_vertex);
+  p.output_offset = readVector(file, mlp, "/mlp/output_offset", 3 * K, per_vertex);
+  readLayers(file, mlp, layer_count, K, p);
+  readFeaturesAndAnchors(file, mlp, p);
+  if (const std::string problem = mlpParameterProblem(p); !problem.empty()) mlp.fail(problem);
   return out;
 }
 

@@ -13,6 +13,7 @@
 
 #include "common/input_error.hpp"
 #include "common/limits.hpp"
+#include "common/named_enum.hpp"
 #include "common/text.hpp"
 
 namespace nmdp {
@@ -46,27 +47,20 @@ class DualLevel {
   uint64_t index_;
 };
 
+constexpr EnumName<MlpActivation> kActivations[] = {
+    {MlpActivation::Tanh, "tanh"}, {MlpActivation::Softplus, "softplus"}, {MlpActivation::Silu, "silu"}};
+constexpr EnumName<MlpJacobian> kJacobians[] = {{MlpJacobian::ForwardMode, "forward-mode"},
+                                                {MlpJacobian::DoubleBackward, "double-backward"},
+                                                {MlpJacobian::Tangents, "tangents"}};
+
 }  // namespace
 
 // ----- activations and parameters ----------------------------------------------------------------
 
-const char* mlpActivationName(MlpActivation activation) {
-  switch (activation) {
-    case MlpActivation::Tanh: return "tanh";
-    case MlpActivation::Softplus: return "softplus";
-    case MlpActivation::Silu: return "silu";
-  }
-  return "?";
-}
+const char* mlpActivationName(MlpActivation activation) { return nameOf(kActivations, activation); }
 
 bool parseMlpActivation(const std::string& name, MlpActivation* activation) {
-  for (MlpActivation a : {MlpActivation::Tanh, MlpActivation::Softplus, MlpActivation::Silu}) {
-    if (name == mlpActivationName(a)) {
-      *activation = a;
-      return true;
-    }
-  }
-  return false;
+  return assignIfNamed(kActivations, name, activation);
 }
 
 std::string mlpActivationProblem(const std::string& name) {
@@ -80,24 +74,9 @@ std::string mlpActivationProblem(const std::string& name) {
   return "unknown activation '" + name + "'; valid activations: tanh, softplus, silu";
 }
 
-const char* mlpJacobianName(MlpJacobian jacobian) {
-  switch (jacobian) {
-    case MlpJacobian::ForwardMode: return "forward-mode";
-    case MlpJacobian::DoubleBackward: return "double-backward";
-    case MlpJacobian::Tangents: return "tangents";
-  }
-  return "?";
-}
+const char* mlpJacobianName(MlpJacobian jacobian) { return nameOf(kJacobians, jacobian); }
 
-bool parseMlpJacobian(const std::string& name, MlpJacobian* jacobian) {
-  for (MlpJacobian j : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
-    if (name == mlpJacobianName(j)) {
-      *jacobian = j;
-      return true;
-    }
-  }
-  return false;
-}
+bool parseMlpJacobian(const std::string& name, MlpJacobian* jacobian) { return assignIfNamed(kJacobians, name, jacobian); }
 
 int MlpParameters::vertexCount() const {
   return layers.empty() ? 0 : static_cast<int>(layers.back().weight.rows() / 3);
@@ -109,8 +88,10 @@ std::vector<int> MlpParameters::sizes() const {
   return out;
 }
 
-std::string mlpParameterProblem(const MlpParameters& p) {
-  if (p.layers.empty()) return "group '/mlp' has no layers: attribute 'layers' must be at least 1";
+namespace {
+
+// The layers: shapes chained from the 2 inputs, finite values. Sets *outputs to the last layer's rows.
+std::string layerProblem(const MlpParameters& p, Eigen::Index* outputs) {
   Eigen::Index in = 2;
   for (size_t i = 0; i < p.layers.size(); ++i) {
     const MlpLayer& l = p.layers[i];
@@ -129,44 +110,34 @@ std::string mlpParameterProblem(const MlpParameters& p) {
       return "dataset '" + b + "' has a non-finite value (NaN or inf) at " + bad;
     in = l.weight.rows();
   }
-  const std::string last = layerName(p.layers.size() - 1) + "/weight";
-  if (in % 3 != 0)
-    return "dataset '" + last + "' has " + std::to_string(in) +
-           " rows: the output layer must give 3 values (F_x, F_z, tau_y) per vertex";
-  if (!p.input_mean.allFinite()) return "dataset '/mlp/input_mean' has a non-finite value";
-  if (!p.input_std.allFinite() || !(p.input_std.minCoeff() > 0.0))
-    return "dataset '/mlp/input_std' must hold two positive finite numbers";
-  for (const auto& [name, v] : {std::pair<const char*, const Eigen::VectorXd*>{"/mlp/output_scale", &p.output_scale},
-                                {"/mlp/output_offset", &p.output_offset}}) {
-    if (v->size() != in)
-      return "dataset '" + std::string(name) + "' has " + std::to_string(v->size()) + " values, expected " +
-             std::to_string(in) + " (the rows of '" + last + "')";
-    if (const std::string bad = firstNonFinite(*v); !bad.empty())
-      return "dataset '" + std::string(name) + "' has a non-finite value (NaN or inf) at " + bad;
-  }
-  if (p.output_envelope == MlpOutputEnvelope::SoftDepth && !(p.envelope_width > 0.0 && std::isfinite(p.envelope_width)))
-    return "attribute 'envelope_width' of '/mlp' must be a positive finite number (m) with output_envelope \"soft_depth\"";
-  if (p.anchors.rows() > 0) {
-    if (const std::string bad = firstNonFinite(p.anchors); !bad.empty())
-      return "dataset '/mlp/anchors' has a non-finite value (NaN or inf) at " + bad;
-    if (!(p.anchor_radius > 0.0) || !std::isfinite(p.anchor_radius))
-      return "attribute 'anchor_radius' of '/mlp' must be a positive finite number";
-    if (p.output_envelope == MlpOutputEnvelope::Depth)
-      return "zero anchors ('/mlp/anchors') and output_envelope \"" + std::string(mlpOutputEnvelopeName(p.output_envelope)) +
-             "\" cannot be combined";
-    const Eigen::Array2d inv_std = p.input_std.cwiseInverse().array();
-    for (Eigen::Index a = 0; a < p.anchors.rows(); ++a)
-      for (Eigen::Index c = a + 1; c < p.anchors.rows(); ++c) {
-        const double d = ((p.anchors.row(a) - p.anchors.row(c)).transpose().array() * inv_std).matrix().norm();
-        if (d < p.anchor_radius)
-          return "anchors " + std::to_string(a) + " and " + std::to_string(c) + " of '/mlp/anchors' are " +
-                 std::to_string(d) + " apart (normalized), less than attribute 'anchor_radius' " +
-                 std::to_string(p.anchor_radius) + ": each anchor's bump must vanish at the others";
-      }
-  }
-  // Finite numbers can still overflow: bound |outputs| and |d outputs / d features| layer by layer
-  // for features within ±kMaxModelFeature (|Wx + b| ≤ row-sum(|W|)·|x| + |b|; tanh ≤ 1, softplus
-  // ≤ |x| + log 2, SiLU ≤ |x|; their slopes ≤ 1.1).
+  *outputs = in;
+  return "";
+}
+
+std::string anchorProblem(const MlpParameters& p) {
+  if (const std::string bad = firstNonFinite(p.anchors); !bad.empty())
+    return "dataset '/mlp/anchors' has a non-finite value (NaN or inf) at " + bad;
+  if (!(p.anchor_radius > 0.0) || !std::isfinite(p.anchor_radius))
+    return "attribute 'anchor_radius' of '/mlp' must be a positive finite number";
+  if (p.output_envelope == MlpOutputEnvelope::Depth)
+    return "zero anchors ('/mlp/anchors') and output_envelope \"" + std::string(mlpOutputEnvelopeName(p.output_envelope)) +
+           "\" cannot be combined";
+  const Eigen::Array2d inv_std = p.input_std.cwiseInverse().array();
+  for (Eigen::Index a = 0; a < p.anchors.rows(); ++a)
+    for (Eigen::Index c = a + 1; c < p.anchors.rows(); ++c) {
+      const double d = ((p.anchors.row(a) - p.anchors.row(c)).transpose().array() * inv_std).matrix().norm();
+      if (d < p.anchor_radius)
+        return "anchors " + std::to_string(a) + " and " + std::to_string(c) + " of '/mlp/anchors' are " +
+               std::to_string(d) + " apart (normalized), less than attribute 'anchor_radius' " +
+               std::to_string(p.anchor_radius) + ": each anchor's bump must vanish at the others";
+    }
+  return "";
+}
+
+// Finite numbers can still overflow: bound |outputs| and |d outputs / d features| layer by layer
+// for features within ±kMaxModelFeature (|Wx + b| ≤ row-sum(|W|)·|x| + |b|; tanh ≤ 1, softplus
+// ≤ |x| + log 2, SiLU ≤ |x|; their slopes ≤ 1.1).
+std::string overflowProblem(const MlpParameters& p) {
   double value = 0.0, slope = 0.0;
   for (int c = 0; c < 2; ++c) {
     value = std::max(value, (limits::kMaxModelFeature + std::abs(p.input_mean[c])) / p.input_std[c]);
@@ -184,13 +155,39 @@ std::string mlpParameterProblem(const MlpParameters& p) {
   const double scale = p.output_scale.cwiseAbs().maxCoeff();
   value = scale * value + p.output_offset.cwiseAbs().maxCoeff();
   slope *= scale;
-  if (!(value <= limits::kMaxModelOutputBound && slope <= limits::kMaxModelOutputBound)) {
-    std::ostringstream out;
-    out << "the weights of '/mlp' are so large that its output or derivative could overflow (bound " << std::max(value, slope)
-        << " for features within " << limits::kMaxModelFeature << "): not a trained network";
-    return out.str();
+  if (value <= limits::kMaxModelOutputBound && slope <= limits::kMaxModelOutputBound) return "";
+  std::ostringstream out;
+  out << "the weights of '/mlp' are so large that its output or derivative could overflow (bound " << std::max(value, slope)
+      << " for features within " << limits::kMaxModelFeature << "): not a trained network";
+  return out.str();
+}
+
+}  // namespace
+
+std::string mlpParameterProblem(const MlpParameters& p) {
+  if (p.layers.empty()) return "group '/mlp' has no layers: attribute 'layers' must be at least 1";
+  Eigen::Index in = 2;
+  if (std::string problem = layerProblem(p, &in); !problem.empty()) return problem;
+  const std::string last = layerName(p.layers.size() - 1) + "/weight";
+  if (in % 3 != 0)
+    return "dataset '" + last + "' has " + std::to_string(in) +
+           " rows: the output layer must give 3 values (F_x, F_z, tau_y) per vertex";
+  if (!p.input_mean.allFinite()) return "dataset '/mlp/input_mean' has a non-finite value";
+  if (!p.input_std.allFinite() || !(p.input_std.minCoeff() > 0.0))
+    return "dataset '/mlp/input_std' must hold two positive finite numbers";
+  for (const auto& [name, v] : {std::pair<const char*, const Eigen::VectorXd*>{"/mlp/output_scale", &p.output_scale},
+                                {"/mlp/output_offset", &p.output_offset}}) {
+    if (v->size() != in)
+      return "dataset '" + std::string(name) + "' has " + std::to_string(v->size()) + " values, expected " +
+             std::to_string(in) + " (the rows of '" + last + "')";
+    if (const std::string bad = firstNonFinite(*v); !bad.empty())
+      return "dataset '" + std::string(name) + "' has a non-finite value (NaN or inf) at " + bad;
   }
-  return "";
+  if (p.output_envelope == MlpOutputEnvelope::SoftDepth && !(p.envelope_width > 0.0 && std::isfinite(p.envelope_width)))
+    return "attribute 'envelope_width' of '/mlp' must be a positive finite number (m) with output_envelope \"soft_depth\"";
+  if (p.anchors.rows() > 0)
+    if (std::string problem = anchorProblem(p); !problem.empty()) return problem;
+  return overflowProblem(p);
 }
 
 void mlpAnchorBumps(const MlpParameters& p, const Eigen::MatrixX2d& features, Eigen::MatrixXd& b,
@@ -286,6 +283,38 @@ struct MlpFunction::Torch {
     return torch::ones_like(z);
   }
 
+  // MlpJacobian::Tangents: values on the first B rows of `input` exactly as in the value-only pass;
+  // the D·B tangent rows (seeded by `seed`) through the same weights: dz = dh A_iᵀ, dh' = σ'(z) ⊙ dz
+  // (σ'(z) broadcast over the D direction blocks). Returns {values, tangents}.
+  std::pair<torch::Tensor, torch::Tensor> tangents(const torch::Tensor& input, const torch::Tensor& seed, int64_t B,
+                                                   int64_t D) const {
+    torch::NoGradGuard no_grad;
+    torch::Tensor h = input.slice(0, 0, B), T = seed;
+    const size_t n = weight_t.size();
+    for (size_t i = 0; i < n; ++i) {
+      const torch::Tensor z = affine(h, weight_t[i], bias[i]);
+      T = torch::mm(T, weight_t[i]);
+      if (i + 1 == n) {
+        h = z;
+        break;
+      }
+      h = activate(z);
+      T = (T.view({D, B, -1}) * slope(z, h)).view({D * B, -1});
+    }
+    return {h, T};
+  }
+
+  // MlpJacobian::DoubleBackward: g(u) = Jᵀu, then ∂(g · seed)/∂u = J seed. Returns {values, tangents}.
+  std::pair<torch::Tensor, torch::Tensor> doubleBackward(const torch::Tensor& input, const torch::Tensor& seed) const {
+    torch::AutoGradMode grad_mode(true);
+    const torch::Tensor leaf = input.detach().requires_grad_(true);
+    const torch::Tensor y = forward(leaf);
+    const torch::Tensor u = torch::zeros_like(y).requires_grad_(true);
+    const torch::Tensor g = torch::autograd::grad({y}, {leaf}, {u}, /*retain_graph=*/true, /*create_graph=*/true)[0];
+    const torch::Tensor tangent = torch::autograd::grad({g}, {u}, {seed})[0];
+    return {y.detach(), tangent.detach()};
+  }
+
   // Pre-activation of layer i.
   static torch::Tensor affine(const torch::Tensor& h, const torch::Tensor& weight_t, const torch::Tensor& bias) {
     return bias.defined() ? torch::addmm(bias, h, weight_t) : torch::mm(h, weight_t);
@@ -295,8 +324,7 @@ struct MlpFunction::Torch {
   // forward-AD level, h a dual tensor) the parameters enter as dual tensors with (cached) zero
   // tangents. Without a tangent, libtorch 1.13's forward formulas (addmm: b_t + h_t A + h A_t) get a
   // ZeroTensor, whose additions run through the Meta device and a copy and whose products go through a
-  // boxed fallback that materializes the zeros: slower than the real products and sums with zeros
-  // (measured for the 2×64 network, 4 rows: ~85 µs per pass with ZeroTensors, ~63 µs with zero tangents).
+  // boxed fallback that materializes the zeros: slower than the real products and sums with zeros.
   // The tangents are only read (no in-place op touches them) and ForwardMode runs under its mutex.
   torch::Tensor forward(torch::Tensor h, int64_t dual_level = -1) const {
     const size_t n = weight_t.size();
@@ -407,7 +435,6 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   if (dW_dphi) dW_dphi->resize(B, O);
   if (dW_dbeta) dW_dbeta->resize(B, O);
   if (B == 0) return;
-
   // The directions (0 = φ, 1 = β; none or both); the batch is stacked once per direction.
   Eigen::MatrixXd* outputs[2] = {dW_dphi, dW_dbeta};
   int directions[2], D = 0;
@@ -424,7 +451,6 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   }
   const auto options = torch::TensorOptions().dtype(torch::kFloat64);
   const torch::Tensor input = torch::from_blob(x.data(), {R, 3}, options);
-
   const Torch& t = *torch_;
   const auto scale = params_.output_scale.transpose().array();
   const auto offset = params_.output_offset.transpose().array();
@@ -455,23 +481,9 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   const torch::Tensor seed_t = torch::from_blob(seed.data(), {R, 3}, options);
 
   if (jacobian_ == MlpJacobian::Tangents) {
-    // Values on B rows exactly as in the value-only pass; the 2B tangent rows through the same
-    // weights: dz = dh A_iᵀ, dh' = σ'(z) ⊙ dz (σ'(z) broadcast over the D direction blocks).
-    torch::NoGradGuard no_grad;
-    torch::Tensor h = input.slice(0, 0, B), T = seed_t;
-    const size_t n = t.weight_t.size();
-    for (size_t i = 0; i < n; ++i) {
-      const torch::Tensor z = Torch::affine(h, t.weight_t[i], t.bias[i]);
-      T = torch::mm(T, t.weight_t[i]);
-      if (i + 1 == n) {
-        h = z;
-        break;
-      }
-      h = t.activate(z);
-      T = (T.view({D, B, -1}) * t.slope(z, h)).view({D * B, -1});
-    }
-    storeValues(h);
-    storeTangents(T);
+    const auto [values, tangents] = t.tangents(input, seed_t, B, D);
+    storeValues(values);
+    storeTangents(tangents);
     return;
   }
 
@@ -486,16 +498,10 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
     return;
   }
 
-  // Double-backward: g(u) = Jᵀu, then ∂(g · seed)/∂u = J seed.
-  torch::AutoGradMode grad_mode(true);
-  const torch::Tensor leaf = input.detach().requires_grad_(true);
-  const torch::Tensor y = t.forward(leaf);
-  const torch::Tensor u = torch::zeros_like(y).requires_grad_(true);
-  const torch::Tensor g = torch::autograd::grad({y}, {leaf}, {u}, /*retain_graph=*/true, /*create_graph=*/true)[0];
-  const torch::Tensor tangent = torch::autograd::grad({g}, {u}, {seed_t})[0];
+  const auto [values, tangents] = t.doubleBackward(input, seed_t);
   torch::NoGradGuard no_grad;
-  storeValues(y.detach());
-  storeTangents(tangent.detach());
+  storeValues(values);
+  storeTangents(tangents);
 }
 
 }  // namespace nmdp

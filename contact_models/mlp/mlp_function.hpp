@@ -50,8 +50,8 @@
 // Anchors and the "depth" envelope are exclusive (its factor is zero at the surface already).
 //
 // Evaluation: all rows of a batch go through the network in one pass, one ATen call per affine
-// layer with the transposed weight A_iᵀ stored contiguous (which the reference BLAS multiplies ~1.5×
-// faster than the out×in layout of torch::nn::Linear): layer 0 is a torch::mm on the input augmented
+// layer with the transposed weight A_iᵀ stored contiguous (the reference BLAS multiplies it faster
+// than the out×in layout of torch::nn::Linear): layer 0 is a torch::mm on the input augmented
 // with a column of ones (its bias is a weight row), the middle layers torch::addmm, the last layer a
 // torch::mm whose bias is added in Eigen with the output scaling. Without derivatives the pass runs
 // under torch::NoGradGuard (no graph is recorded). dW/dφ and dW/dβ, by one of (MlpJacobian):
@@ -59,19 +59,19 @@
 //     columns and the output 3K = 78, so the Jacobian is cheapest column by column: the batch is
 //     stacked once per direction (block d carries the seed e_d ⊘ input_std) and one forward pass
 //     returns the values and both columns. The weights and biases enter as dual tensors
-//     with zero tangents (libtorch 1.13's ZeroTensor path for absent tangents is ~1.3× slower).
+//     with zero tangents (libtorch 1.13's ZeroTensor path for absent tangents is slower).
 //     libtorch 1.13 allows one forward-AD level per process, so these evaluations are serialized by
 //     a mutex private to mlp_function.cpp (value-only passes and the other schemes still run
 //     concurrently).
 //   * DoubleBackward: libtorch reverse-mode autograd on the same stacked batch, twice (the
 //     "double-backward" Jacobian-vector product): g(u) = Jᵀu for a dummy u with the graph kept,
-//     then ∂(g·seed)/∂u = J·seed. Public API, no process-wide state, ~1.5× slower than ForwardMode.
+//     then ∂(g·seed)/∂u = J·seed. Public API, no process-wide state, slower than ForwardMode.
 //   * Tangents: the same forward-mode tangents coded by hand with torch ops (dz = dh A_iᵀ,
 //     dh' = σ'(z) ⊙ dz), the values on B rows and the tangents on 2B rows: no primal rows are
-//     duplicated and no AD bookkeeping runs, ~1.7× faster than ForwardMode. derivative() then says
+//     duplicated and no AD bookkeeping runs, the fastest scheme. derivative() then says
 //     Analytic. The tests check it against both autograd schemes and central differences.
-//   Reverse mode with one-hot output seeds would need the batch stacked 3K times (≈ 20× slower
-//   than ForwardMode, measured: 5.4 ms against 0.24 ms for 4 rows), so it is not offered.
+//   Reverse mode with one-hot output seeds would need the batch stacked 3K times, so it is not
+//   offered. (Timings of the schemes: docs/notes/2026-11-26-core-measurements.md.)
 // Asking for one derivative computes both and drops the other (both directions are always stacked),
 // so dW/dφ alone is bit for bit dW/dφ of the pair: a smaller batch would let the BLAS pick another
 // kernel (it picks by shape and CPU) and round differently. The schemes and the value-only pass are

@@ -118,10 +118,11 @@ int runInspect(const Args& args) {
   out["links"] = links;
   nlohmann::ordered_json feet = nlohmann::json::array();
   for (const FootContact& f : detectFeet(model)) {
-    const Vec3 a = legAxisOf(model, model.linkIndex(f.link), f.offset, f.radius);
-    feet.push_back({{"link", f.link}, {"offset", {f.offset.x(), f.offset.y(), f.offset.z()}}, {"radius", f.radius},
+    const ContactPoint& p = f.point;
+    const Vec3& a = p.leg_axis;
+    feet.push_back({{"link", p.name}, {"offset", {p.offset.x(), p.offset.y(), p.offset.z()}}, {"radius", p.radius},
                     {"leg_axis", {a.x(), a.y(), a.z()}}});
-    if (!f.warning.empty()) std::cerr << "warning: foot " << f.link << ": " << f.warning << "\n";
+    if (!f.warning.empty()) std::cerr << "warning: foot " << f.point.name << ": " << f.warning << "\n";
   }
   out["feet"] = feet;
   out["default_gains"] = defaultGainsSummary(model);

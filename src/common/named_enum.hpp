@@ -30,6 +30,14 @@ std::optional<Enum> enumFromName(const EnumName<Enum> (&table)[N], const std::st
   return std::nullopt;
 }
 
+// For parsers that report "unknown" themselves: sets *value and returns true when `name` is in the table.
+template <class Enum, std::size_t N>
+bool assignIfNamed(const EnumName<Enum> (&table)[N], const std::string& name, Enum* value) {
+  const std::optional<Enum> found = enumFromName(table, name);
+  if (found) *value = *found;
+  return found.has_value();
+}
+
 // Every name in the table's order, for messages and schemas.
 template <class Enum, std::size_t N>
 std::vector<std::string> namesOf(const EnumName<Enum> (&table)[N]) {

@@ -32,9 +32,9 @@ GainInertia gainInertia(const Model& model, const Eigen::VectorXd& q) {
     };
     std::vector<Foot> feet;
     for (const FootContact& f : detectFeet(model)) {
-      const int link = model.linkIndex(f.link);
+      const int link = model.linkIndex(f.point.name);
       if (link < 0 || model.links[link].body < 0) continue;
-      feet.push_back({model.links[link].body, linkPoint(model, data, link, f.offset)});
+      feet.push_back({model.links[link].body, linkPoint(model, data, link, f.point.offset)});
     }
     out.feet = static_cast<int>(feet.size());
     if (!feet.empty() && model.total_mass > 0.0) {
@@ -54,16 +54,9 @@ GainInertia gainInertia(const Model& model, const Eigen::VectorXd& q) {
 
 PdGains gainsForInertia(const Model& model, const Eigen::VectorXd& inertia, double frequency_hz, double damping_ratio) {
   const double omega = 2.0 * M_PI * frequency_hz;
-  PdGains g;
-  g.kp = Eigen::VectorXd::Zero(model.nq);
-  g.kd = Eigen::VectorXd::Zero(model.nq);
-  g.tau_ff = Eigen::VectorXd::Zero(model.nq);
-  for (int j = 0; j < model.nq; ++j) {
-    if (model.bodies[j].is_base) continue;
-    g.kp[j] = inertia[j] * omega * omega;
-    g.kd[j] = 2.0 * damping_ratio * omega * inertia[j];
-  }
-  return g;
+  return actuatedPdGains(model, [&](int j) {
+    return std::pair(inertia[j] * omega * omega, 2.0 * damping_ratio * omega * inertia[j]);
+  });
 }
 
 PdGains defaultPdGains(const Model& model, const Eigen::VectorXd& q) {

@@ -6,11 +6,17 @@
 #include <stdexcept>
 #include <vector>
 
+#include "common/named_enum.hpp"
+#include "common/text.hpp"
 #include "control/start_ramp.hpp"
 
 namespace nmdp {
 
 namespace {
+
+constexpr EnumName<GaitType> kGaitTypes[] = {{GaitType::Stand, "stand"}, {GaitType::Trot, "trot"}, {GaitType::Jump, "jump"}};
+constexpr EnumName<SwingProfile> kSwingProfiles[] = {{SwingProfile::Cosine, "cosine"},
+                                                     {SwingProfile::GroundSpeed, "ground_speed"}};
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDefaultStandShare = 0.8;       // standing height / straight height
@@ -79,7 +85,7 @@ void solveOrThrow(LegIkSolver& ik, const Leg& leg, LegId id, const Vec3& target,
                   const std::string& what) {
   const LegIkResult result = ik.solve(leg, target, q);
   if (!result.converged)
-    fail(what + ": the " + std::string(legIdName(id)) + " foot (" + leg.foot_link + ") cannot reach " +
+    fail(what + ": the " + std::string(legIdName(id)) + " foot (" + leg.foot.name + ") cannot reach " +
          describe(target) + " m in the trunk frame (" + std::to_string(result.error) +
          " m short, joint limits or leg length); choose smaller sizes");
 }
@@ -97,33 +103,18 @@ GaitContext gaitContext(const Model& model, const StandParameters& stand) {
 
 }  // namespace
 
-const char* gaitTypeName(GaitType type) {
-  switch (type) {
-    case GaitType::Stand: return "stand";
-    case GaitType::Trot: return "trot";
-    case GaitType::Jump: return "jump";
-  }
-  return "?";
-}
+const char* gaitTypeName(GaitType type) { return nameOf(kGaitTypes, type); }
 
 GaitType parseGaitType(const std::string& name) {
-  for (GaitType type : {GaitType::Stand, GaitType::Trot, GaitType::Jump})
-    if (name == gaitTypeName(type)) return type;
-  fail("unknown gait type '" + name + "' (valid: stand, trot, jump)");
+  if (const auto type = enumFromName(kGaitTypes, name)) return *type;
+  fail("unknown gait type '" + name + "' (valid: " + join(namesOf(kGaitTypes), ", ") + ")");
 }
 
-const char* swingProfileName(SwingProfile profile) {
-  switch (profile) {
-    case SwingProfile::Cosine: return "cosine";
-    case SwingProfile::GroundSpeed: return "ground_speed";
-  }
-  return "?";
-}
+const char* swingProfileName(SwingProfile profile) { return nameOf(kSwingProfiles, profile); }
 
 SwingProfile parseSwingProfile(const std::string& name) {
-  for (SwingProfile profile : {SwingProfile::Cosine, SwingProfile::GroundSpeed})
-    if (name == swingProfileName(profile)) return profile;
-  fail("unknown swing profile '" + name + "' (valid: cosine, ground_speed)");
+  if (const auto profile = enumFromName(kSwingProfiles, name)) return *profile;
+  fail("unknown swing profile '" + name + "' (valid: " + join(namesOf(kSwingProfiles), ", ") + ")");
 }
 
 StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const StandParameters& stand) {
@@ -142,14 +133,14 @@ StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const S
     const Vec3 straight_foot = ik.footInTrunk(leg, zero);
     const Vec3 hip = ik.linkPointInTrunk(model.linkIndex(model.bodies[leg.joints.front()].name), Vec3::Zero(), zero);
     pose.leg_length += 0.25 * (straight_foot - hip).norm();
-    pose.straight_height += 0.25 * (leg.foot_radius - straight_foot.z());
+    pose.straight_height += 0.25 * (leg.foot.radius - straight_foot.z());
     nominal_feet[id] = ik.footInTrunk(leg, nominal);
   }
   if (stand.height) {
     pose.height = *stand.height;
   } else if (stand.nominal_q.size()) {
     pose.height = 0;
-    for (int id = 0; id < 4; ++id) pose.height += 0.25 * (legs.legs[id].foot_radius - nominal_feet[id].z());
+    for (int id = 0; id < 4; ++id) pose.height += 0.25 * (legs.legs[id].foot.radius - nominal_feet[id].z());
   } else {
     pose.height = kDefaultStandShare * pose.straight_height;
   }
@@ -159,7 +150,7 @@ StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const S
   setStandingBase(model, pose.height, pose.q);
   for (int id = 0; id < 4; ++id) {
     const Leg& leg = legs.legs[id];
-    const Vec3 target(nominal_feet[id].x(), nominal_feet[id].y(), leg.foot_radius - pose.height);
+    const Vec3 target(nominal_feet[id].x(), nominal_feet[id].y(), leg.foot.radius - pose.height);
     Eigen::VectorXd seed = pose.q;
     clampSeedIntoLimits(leg, ik.limits(), seed);
     std::vector<Eigen::VectorXd> seeds{seed};
@@ -188,7 +179,7 @@ StandingPose standingPose(const Model& model, const QuadrupedLegs& legs, const S
       }
     }
     if (!found)
-      fail("stand: the " + std::string(legIdName(static_cast<LegId>(id))) + " foot (" + leg.foot_link +
+      fail("stand: the " + std::string(legIdName(static_cast<LegId>(id))) + " foot (" + leg.foot.name +
            ") cannot reach " + describe(target) + " m in the trunk frame at standing height " +
            std::to_string(pose.height) + " m; choose another stand.height");
     for (int j : leg.joints) pose.q[j] = best[j];
@@ -324,7 +315,7 @@ KeyframePdTarget makeJumpTarget(const Model& model, const JumpParameters& jump_i
     for (int id = 0; id < 4; ++id) {
       const Leg& leg = context.legs.legs[id];
       Vec3 target = context.pose.feet[id];
-      target.z() = leg.foot_radius - height;
+      target.z() = leg.foot.radius - height;
       if (best_effort)
         ik.solve(leg, target, q);  // as far as the legs and limits allow
       else

@@ -6,12 +6,16 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "common/named_enum.hpp"
 #include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 
 namespace nmdp {
 
 namespace {
+
+constexpr EnumName<LegId> kLegIds[] = {
+    {kFrontLeft, "front left"}, {kFrontRight, "front right"}, {kHindLeft, "hind left"}, {kHindRight, "hind right"}};
 
 Eigen::VectorXd zeroIfEmpty(const Model& model, const Eigen::VectorXd& q) {
   return q.size() == 0 ? Eigen::VectorXd::Zero(model.nq) : q;
@@ -37,11 +41,8 @@ std::vector<Leg> findLegs(const Model& model) {
   std::vector<Leg> legs;
   for (const FootContact& foot : detectFeet(model)) {
     Leg leg;
-    leg.foot_link = foot.link;
-    leg.foot_link_index = model.linkIndex(foot.link);
-    leg.foot_offset = foot.offset;
-    leg.foot_radius = foot.radius;
-    leg.foot_body = model.links[leg.foot_link_index].body;
+    leg.foot = foot.point;
+    leg.foot_body = model.links[leg.foot.link].body;
     for (int b = leg.foot_body; b >= 0 && b != model.root_body; b = model.bodies[b].parent)
       if (!model.bodies[b].is_base) leg.joints.push_back(b);
     std::reverse(leg.joints.begin(), leg.joints.end());
@@ -50,15 +51,7 @@ std::vector<Leg> findLegs(const Model& model) {
   return legs;
 }
 
-const char* legIdName(LegId id) {
-  switch (id) {
-    case kFrontLeft: return "front left";
-    case kFrontRight: return "front right";
-    case kHindLeft: return "hind left";
-    case kHindRight: return "hind right";
-  }
-  return "?";
-}
+const char* legIdName(LegId id) { return nameOf(kLegIds, id); }
 
 QuadrupedLegs identifyQuadrupedLegs(const Model& model, const Eigen::VectorXd& q_in) {
   std::vector<Leg> legs = findLegs(model);
@@ -74,7 +67,7 @@ QuadrupedLegs identifyQuadrupedLegs(const Model& model, const Eigen::VectorXd& q
     const bool front = foot.x() > 0, left = foot.y() > 0;
     const LegId id = front ? (left ? kFrontLeft : kFrontRight) : (left ? kHindLeft : kHindRight);
     if (taken[id])
-      throw std::invalid_argument(model.source + ": two feet (" + out.legs[id].foot_link + ", " + leg.foot_link +
+      throw std::invalid_argument(model.source + ": two feet (" + out.legs[id].foot.name + ", " + leg.foot.name +
                                   ") are both on the " + legIdName(id) + " of the trunk; cannot tell the legs apart");
     taken[id] = true;
     out.legs[id] = std::move(leg);
@@ -104,7 +97,7 @@ Vec3 LegIkSolver::linkPointInTrunk(int link, const Vec3& local, const Eigen::Vec
 }
 
 Vec3 LegIkSolver::footInTrunk(const Leg& leg, const Eigen::VectorXd& q) {
-  return linkPointInTrunk(leg.foot_link_index, leg.foot_offset, q);
+  return linkPointInTrunk(leg.foot.link, leg.foot.offset, q);
 }
 
 Vec3 LegIkSolver::worldPlaneNormal(const Leg& leg) const {
@@ -128,7 +121,7 @@ Vec3 LegIkSolver::planeNormal(const Leg& leg, const Eigen::VectorXd& q) {
 
 double LegIkSolver::conditioning(const Leg& leg, const Eigen::VectorXd& q) {
   forwardKinematics(model_, data_, q);
-  const Vec3 foot = linkPoint(model_, data_, leg.foot_link_index, leg.foot_offset);
+  const Vec3 foot = linkPoint(model_, data_, leg.foot.link, leg.foot.offset);
   pointJacobian(model_, data_, leg.foot_body, foot, full_jacobian_);
   const int k = static_cast<int>(leg.joints.size());
   for (int c = 0; c < k; ++c) leg_jacobian_.col(c) = full_jacobian_.col(leg.joints[c]);
@@ -153,7 +146,7 @@ LegIkResult LegIkSolver::solve(const Leg& leg, const Vec3& target_in_trunk, Eige
   // A planar leg cannot move its foot along its plane's normal: only the in-plane error counts.
   const Vec3 plane_normal = worldPlaneNormal(leg);
   auto reachable = [&plane_normal](const Vec3& e) -> Vec3 { return e - plane_normal * plane_normal.dot(e); };
-  Vec3 foot = linkPoint(model_, data_, leg.foot_link_index, leg.foot_offset);
+  Vec3 foot = linkPoint(model_, data_, leg.foot.link, leg.foot.offset);
   Vec3 error = reachable(target - foot);
   result.error = error.norm();
   double damping = options_.initial_damping;
@@ -184,7 +177,7 @@ LegIkResult LegIkSolver::solve(const Leg& leg, const Vec3& target_in_trunk, Eige
         q_trial_[j] = std::clamp(q[j] + step[c], limits_.lower[j], limits_.upper[j]);
       }
       forwardKinematics(model_, data_, q_trial_);
-      const Vec3 trial_foot = linkPoint(model_, data_, leg.foot_link_index, leg.foot_offset);
+      const Vec3 trial_foot = linkPoint(model_, data_, leg.foot.link, leg.foot.offset);
       const double trial_error = reachable(target - trial_foot).norm();
       if (trial_error < result.error) {
         improved = true;

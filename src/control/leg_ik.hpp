@@ -20,15 +20,13 @@
 #include <string>
 #include <vector>
 
+#include "multibody/contact_point.hpp"
 #include "multibody/data.hpp"
 
 namespace nmdp {
 
 struct Leg {
-  std::string foot_link;      // URDF link carrying the foot's contact sphere
-  int foot_link_index = -1;   // into Model::links
-  Vec3 foot_offset = Vec3::Zero();  // contact sphere centre in the foot link frame (the IK point)
-  double foot_radius = 0.0;
+  ContactPoint foot;          // the foot's contact sphere; its centre is the IK point
   int foot_body = -1;         // body carrying the foot link
   std::vector<int> joints;    // coordinate (= body) indices, trunk to foot
 };

@@ -28,16 +28,7 @@ PdGains massScaledPdGains(const Model& model) {
     throw std::invalid_argument("massScaledPdGains: robot total mass must be positive and finite (got " +
                                 std::to_string(model.total_mass) + " kg)");
   const double scale = model.total_mass / kReferencePdMass;  // linear in mass
-  PdGains g;
-  g.kp = Eigen::VectorXd::Zero(model.nq);
-  g.kd = Eigen::VectorXd::Zero(model.nq);
-  g.tau_ff = Eigen::VectorXd::Zero(model.nq);
-  for (int i = 0; i < model.nq; ++i) {
-    if (model.bodies[i].is_base) continue;
-    g.kp[i] = kReferenceKp * scale;
-    g.kd[i] = kReferenceKd * scale;
-  }
-  return g;
+  return actuatedPdGains(model, [&](int) { return std::pair(kReferenceKp * scale, kReferenceKd * scale); });
 }
 
 void validatePdGains(const Model& model, const PdGains& gains) {

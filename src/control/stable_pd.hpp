@@ -29,6 +29,7 @@
 // they are sized nq).
 #pragma once
 #include <Eigen/Core>
+#include <utility>
 
 #include "multibody/model.hpp"
 
@@ -39,6 +40,23 @@ struct PdGains {
   Eigen::VectorXd kd;      // N·m·s/rad, ≥ 0, zero on base coordinates
   Eigen::VectorXd tau_ff;  // feed-forward torque, zero on base coordinates
 };
+
+// Gains with kp[j] = kp_kd(j).first and kd[j] = kp_kd(j).second on every actuated (non-base)
+// coordinate j, zero elsewhere, no feed-forward.
+template <class KpKd>
+PdGains actuatedPdGains(const Model& model, KpKd kp_kd) {
+  PdGains g;
+  g.kp = Eigen::VectorXd::Zero(model.nq);
+  g.kd = Eigen::VectorXd::Zero(model.nq);
+  g.tau_ff = Eigen::VectorXd::Zero(model.nq);
+  for (int j = 0; j < model.nq; ++j) {
+    if (model.bodies[j].is_base) continue;
+    const auto [kp, kd] = kp_kd(j);
+    g.kp[j] = kp;
+    g.kd[j] = kd;
+  }
+  return g;
+}
 
 // θ̄(t+h) and θ̄̇(t+h), sized nq; base entries are ignored.
 struct PdTarget {

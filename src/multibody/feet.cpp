@@ -209,23 +209,26 @@ struct Leg {
   double height = 0.0;  // foot's lowest point above the root link origin (along −gravity)
 };
 
-}  // namespace
+// Every link's world pose at q = 0 with the base at the world origin.
+struct LinkPoses {
+  std::vector<Mat3> R;
+  std::vector<Vec3> p;
+};
 
-std::vector<FootContact> detectFeet(const Model& model) {
+LinkPoses linkPosesAtZero(const Model& model) {
   const int nl = static_cast<int>(model.links.size());
-  if (nl == 0) return {};
-
   Data data(model);
   forwardKinematics(model, data, Eigen::VectorXd::Zero(model.nq));
-  std::vector<Mat3> Rw(nl);
-  std::vector<Vec3> pw(nl);
-  for (int i = 0; i < nl; ++i) linkPose(model, data, i, Rw[i], pw[i]);
+  LinkPoses poses{std::vector<Mat3>(nl), std::vector<Vec3>(nl)};
+  for (int i = 0; i < nl; ++i) linkPose(model, data, i, poses.R[i], poses.p[i]);
+  return poses;
+}
 
-  Vec3 g = model.gravity;
-  g = g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 0, -1);
-  // The trunk: the root body or, when the URDF models the base itself as joints between massless,
-  // geometry-free links (RoboSimian's _pinocchio.urdf: virtual0 → virtual1 → virtual2 → torso),
-  // the first body below it that carries something or branches.
+// The trunk: the root body or, when the URDF models the base itself as joints between massless,
+// geometry-free links (RoboSimian's _pinocchio.urdf: virtual0 → virtual1 → virtual2 → torso),
+// the first body below it that carries something or branches. Returns {body, link}.
+std::pair<int, int> findTrunk(const Model& model) {
+  const int nl = static_cast<int>(model.links.size());
   int trunk_body = model.links[model.root_link].body;
   int trunk_link = model.root_link;
   for (;;) {
@@ -243,105 +246,132 @@ std::vector<FootContact> detectFeet(const Model& model) {
     trunk_link = children[0];
     trunk_body = model.links[trunk_link].body;
   }
-  auto inRoot = [&](int l) { return model.links[l].body == trunk_body; };
+  return {trunk_body, trunk_link};
+}
+
+// Main chain of the leg rooted at link r: the leaf with the most movable joints, then carrying
+// geometry, then farthest.
+int mainLeaf(const Model& model, const LinkPoses& poses, int r) {
+  int best_leaf = -1, best_moves = -1, best_geom = -1;
+  double best_dist = -1;
+  std::vector<int> stack{r};
+  while (!stack.empty()) {
+    const int l = stack.back();
+    stack.pop_back();
+    const Link& link = model.links[l];
+    for (auto it = link.child_links.rbegin(); it != link.child_links.rend(); ++it) stack.push_back(*it);
+    if (!link.child_links.empty()) continue;
+    int moves = 0;
+    for (int a = l;; a = model.links[a].parent_link) {
+      moves += model.links[a].parent_joint_movable ? 1 : 0;
+      if (a == r) break;
+    }
+    const int geom = link.collisions.empty() ? 0 : 1;
+    const double dist = (poses.p[l] - poses.p[r]).norm();
+    const bool better = moves > best_moves || (moves == best_moves && geom > best_geom) ||
+                        (moves == best_moves && geom == best_geom && dist > best_dist + kTieTolerance);
+    if (better) {
+      best_leaf = l;
+      best_moves = moves;
+      best_geom = geom;
+      best_dist = dist;
+    }
+  }
+  return best_leaf;
+}
+
+// The collision geometry of the chain reaching farthest along d, as {chain position, geometry
+// index}; near ties go to the more distal link. {-1, -1} when the chain has none.
+std::pair<int, int> farthestGeometry(const Model& model, const LinkPoses& poses, const std::vector<int>& chain,
+                                     const Vec3& d, MeshCache& meshes) {
+  struct Candidate {
+    int pos, geom;
+    double support;
+  };
+  std::vector<Candidate> candidates;
+  for (size_t k = 0; k < chain.size(); ++k) {
+    const int l = chain[k];
+    const Vec3 dl = poses.R[l].transpose() * d;
+    const auto& cols = model.links[l].collisions;
+    for (size_t j = 0; j < cols.size(); ++j) {
+      MeshVertices mesh;
+      if (cols[j].shape == CollisionGeometry::Shape::Mesh) mesh = meshes.get(cols[j]);
+      candidates.push_back({static_cast<int>(k), static_cast<int>(j), poses.p[l].dot(d) + support(cols[j], dl, &mesh)});
+    }
+  }
+  if (candidates.empty()) return {-1, -1};
+  double top = -std::numeric_limits<double>::infinity();
+  for (const Candidate& c : candidates) top = std::max(top, c.support);
+  const Candidate* best = nullptr;
+  for (const Candidate& c : candidates) {
+    if (c.support < top - kTieTolerance) continue;
+    if (!best || c.pos > best->pos || (c.pos == best->pos && c.support > best->support)) best = &c;
+  }
+  return {best->pos, best->geom};
+}
+
+// The leg rooted at link r, with its foot (link index, offset, radius, how it was found) and height.
+Leg legFrom(const Model& model, const LinkPoses& poses, const Vec3& g, int trunk_link, int r, MeshCache& meshes) {
+  const std::vector<Mat3>& Rw = poses.R;
+  const std::vector<Vec3>& pw = poses.p;
+  Leg leg;
+  leg.root = r;
+  const int best_leaf = mainLeaf(model, poses, r);
+  for (int a = best_leaf;; a = model.links[a].parent_link) {
+    leg.chain.push_back(a);
+    if (a == r) break;
+  }
+  std::reverse(leg.chain.begin(), leg.chain.end());
+
+  // The leg's direction: gravity if it hangs down at q = 0, else toward its leaf.
+  const Vec3 reach = pw[best_leaf] - pw[r];
+  Vec3 d = g;
+  if (reach.norm() > 1e-9 && reach.normalized().dot(g) < kHangingCosine) d = reach.normalized();
+  const auto [foot_pos, foot_geom] = farthestGeometry(model, poses, leg.chain, d, meshes);
+
+  FootContact& foot = leg.foot;
+  if (foot_pos < 0) {
+    foot.point.link = best_leaf;
+    foot.source = "link origin";
+    foot.warning = "no collision geometry on the leg: the foot is the leaf link origin with radius 0";
+    leg.height = -(pw[best_leaf] - pw[trunk_link]).dot(g);
+  } else {
+    const int l = leg.chain[foot_pos];
+    const CollisionGeometry& geom = model.links[l].collisions[foot_geom];
+    const Vec3 dl = Rw[l].transpose() * d;
+    MeshVertices mesh;
+    if (geom.shape == CollisionGeometry::Shape::Mesh) mesh = meshes.get(geom);
+    const Sphere s = footSphere(geom, dl, &mesh);
+    foot.point.link = l;
+    foot.point.offset = s.center.unaryExpr([](double x) { return snap(x); });
+    foot.point.radius = s.radius;
+    foot.source = s.source;
+    foot.warning = s.warning;
+    leg.has_geometry = true;
+    const Vec3 lowest = pw[l] + Rw[l] * s.center + s.radius * g;
+    leg.height = -(lowest - pw[trunk_link]).dot(g);
+  }
+  foot.point.name = model.links[foot.point.link].name;
+  return leg;
+}
+
+}  // namespace
+
+std::vector<FootContact> detectFeet(const Model& model) {
+  const int nl = static_cast<int>(model.links.size());
+  if (nl == 0) return {};
+  const LinkPoses poses = linkPosesAtZero(model);
+  Vec3 g = model.gravity;
+  g = g.norm() > 0 ? Vec3(g.normalized()) : Vec3(0, 0, -1);
+  const auto [trunk_body, trunk_link] = findTrunk(model);
+  auto inRoot = [&, trunk_body = trunk_body](int l) { return model.links[l].body == trunk_body; };
 
   MeshCache meshes;
   std::vector<Leg> legs;
   for (int r = 0; r < nl; ++r) {
     const Link& lr = model.links[r];
     if (inRoot(r) || lr.parent_link < 0 || !inRoot(lr.parent_link)) continue;
-    Leg leg;
-    leg.root = r;
-
-    // Main chain: the leaf with the most movable joints, then carrying geometry, then farthest.
-    int best_leaf = -1, best_moves = -1, best_geom = -1;
-    double best_dist = -1;
-    std::vector<int> stack{r};
-    while (!stack.empty()) {
-      const int l = stack.back();
-      stack.pop_back();
-      const Link& link = model.links[l];
-      for (auto it = link.child_links.rbegin(); it != link.child_links.rend(); ++it) stack.push_back(*it);
-      if (!link.child_links.empty()) continue;
-      int moves = 0;
-      for (int a = l;; a = model.links[a].parent_link) {
-        moves += model.links[a].parent_joint_movable ? 1 : 0;
-        if (a == r) break;
-      }
-      const int geom = link.collisions.empty() ? 0 : 1;
-      const double dist = (pw[l] - pw[r]).norm();
-      const bool better = moves > best_moves || (moves == best_moves && geom > best_geom) ||
-                          (moves == best_moves && geom == best_geom && dist > best_dist + kTieTolerance);
-      if (better) {
-        best_leaf = l;
-        best_moves = moves;
-        best_geom = geom;
-        best_dist = dist;
-      }
-    }
-    for (int a = best_leaf;; a = model.links[a].parent_link) {
-      leg.chain.push_back(a);
-      if (a == r) break;
-    }
-    std::reverse(leg.chain.begin(), leg.chain.end());
-
-    // The leg's direction: gravity if it hangs down at q = 0, else toward its leaf.
-    const Vec3 reach = pw[best_leaf] - pw[r];
-    Vec3 d = g;
-    if (reach.norm() > 1e-9 && reach.normalized().dot(g) < kHangingCosine) d = reach.normalized();
-
-    // The geometry reaching farthest along d; near ties go to the more distal link.
-    struct Candidate {
-      int pos, geom;
-      double support;
-    };
-    std::vector<Candidate> candidates;
-    for (size_t k = 0; k < leg.chain.size(); ++k) {
-      const int l = leg.chain[k];
-      const Vec3 dl = Rw[l].transpose() * d;
-      const auto& cols = model.links[l].collisions;
-      for (size_t j = 0; j < cols.size(); ++j) {
-        MeshVertices mesh;
-        if (cols[j].shape == CollisionGeometry::Shape::Mesh) mesh = meshes.get(cols[j]);
-        candidates.push_back({static_cast<int>(k), static_cast<int>(j), pw[l].dot(d) + support(cols[j], dl, &mesh)});
-      }
-    }
-    int foot_pos = -1, foot_geom = -1;
-    if (!candidates.empty()) {
-      double top = -std::numeric_limits<double>::infinity();
-      for (const Candidate& c : candidates) top = std::max(top, c.support);
-      const Candidate* best = nullptr;
-      for (const Candidate& c : candidates) {
-        if (c.support < top - kTieTolerance) continue;
-        if (!best || c.pos > best->pos || (c.pos == best->pos && c.support > best->support)) best = &c;
-      }
-      foot_pos = best->pos;
-      foot_geom = best->geom;
-    }
-
-    FootContact& foot = leg.foot;
-    if (foot_pos < 0) {
-      foot.link = model.links[best_leaf].name;
-      foot.source = "link origin";
-      foot.warning = "no collision geometry on the leg: the foot is the leaf link origin with radius 0";
-      leg.height = -(pw[best_leaf] - pw[trunk_link]).dot(g);
-    } else {
-      const int l = leg.chain[foot_pos];
-      const CollisionGeometry& geom = model.links[l].collisions[foot_geom];
-      const Vec3 dl = Rw[l].transpose() * d;
-      MeshVertices mesh;
-      if (geom.shape == CollisionGeometry::Shape::Mesh) mesh = meshes.get(geom);
-      const Sphere s = footSphere(geom, dl, &mesh);
-      foot.link = model.links[l].name;
-      foot.offset = s.center.unaryExpr([](double x) { return snap(x); });
-      foot.radius = s.radius;
-      foot.source = s.source;
-      foot.warning = s.warning;
-      leg.has_geometry = true;
-      const Vec3 lowest = pw[l] + Rw[l] * s.center + s.radius * g;
-      leg.height = -(lowest - pw[trunk_link]).dot(g);
-    }
-    legs.push_back(std::move(leg));
+    legs.push_back(legFrom(model, poses, g, trunk_link, r, meshes));
   }
 
   // Subtrees without geometry are not legs, unless nothing has geometry.
@@ -354,8 +384,18 @@ std::vector<FootContact> detectFeet(const Model& model) {
 
   std::vector<FootContact> feet;
   feet.reserve(legs.size());
-  for (Leg& leg : legs) feet.push_back(std::move(leg.foot));
+  for (Leg& leg : legs) {
+    ContactPoint& point = leg.foot.point;
+    point.leg_axis = legAxisOf(model, point.link, point.offset, point.radius);
+    feet.push_back(std::move(leg.foot));
+  }
   return feet;
+}
+
+std::vector<ContactPoint> footContactPoints(const Model& model) {
+  std::vector<ContactPoint> out;
+  for (const FootContact& f : detectFeet(model)) out.push_back(f.point);
+  return out;
 }
 
 }  // namespace nmdp

@@ -41,14 +41,14 @@
 #include <string>
 #include <vector>
 
+#include "multibody/contact_point.hpp"
 #include "multibody/model.hpp"
 
 namespace nmdp {
 
 struct FootContact {
-  std::string link;  // URDF link carrying the contact sphere
-  Vec3 offset = Vec3::Zero();  // sphere centre in that link's frame
-  double radius = 0.0;
+  // The contact sphere, named after its link, with its leg axis from legAxisOf.
+  ContactPoint point;
   // How it was found: "sphere", "cylinder end", "cylinder side", "box face", "mesh cap", or
   // "link origin" (fallback, radius 0: unreadable foot mesh, or a robot without collision geometry).
   std::string source;
@@ -58,5 +58,8 @@ struct FootContact {
 // One foot per leg, in URDF link order (the order of Model::links). Never throws for an
 // unreadable mesh (see `warning`); returns an empty list for a robot without legs.
 std::vector<FootContact> detectFeet(const Model& model);
+
+// The contact points of detectFeet's feet.
+std::vector<ContactPoint> footContactPoints(const Model& model);
 
 }  // namespace nmdp

@@ -1,15 +1,15 @@
 #include "multibody/model.hpp"
 
+#include "common/named_enum.hpp"
+
 namespace nmdp {
 
-const char* baseTypeName(BaseType b) {
-  switch (b) {
-    case BaseType::Floating: return "floating";
-    case BaseType::Planar: return "planar";
-    case BaseType::Fixed: return "fixed";
-  }
-  return "?";
-}
+namespace {
+constexpr EnumName<BaseType> kBaseTypes[] = {
+    {BaseType::Floating, "floating"}, {BaseType::Planar, "planar"}, {BaseType::Fixed, "fixed"}};
+}  // namespace
+
+const char* baseTypeName(BaseType b) { return nameOf(kBaseTypes, b); }
 
 int Model::linkIndex(const std::string& name) const {
   for (size_t i = 0; i < links.size(); ++i)

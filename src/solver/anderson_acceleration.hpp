@@ -1,8 +1,7 @@
 // Anderson acceleration (type II, Walker & Ni 2011) of a fixed-point iteration x ← x + f(x).
 //
 // The projection's chord steps f = −M⁻¹G(x), with M a factorization of ∂G/∂θ at an older iterate,
-// converge linearly at a steady rate (0.1–0.3 per step on the trot: the stiff contact term of M is
-// out of date). From the last few pairs (Δx, Δf) this finds the combination of recent steps whose
+// converge linearly at a steady rate (the stiff contact term of M is out of date). From the last few pairs (Δx, Δf) this finds the combination of recent steps whose
 // residual is smallest, which removes those slow modes: a multisecant update of M⁻¹ that costs a
 // few dot products instead of a new Jacobian.
 //

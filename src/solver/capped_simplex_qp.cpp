@@ -4,6 +4,8 @@
 #include <cmath>
 #include <limits>
 
+#include "common/named_enum.hpp"
+
 namespace nmdp {
 
 // Plain loops for the small (≤ n×n, n = Σ K_c ≈ 24) dense kernels: Eigen's dynamic-size triangular
@@ -70,17 +72,14 @@ bool allFinite(const double* x, Eigen::Index size) {
   return s == 0;
 }
 
+constexpr EnumName<QpStatus> kQpStatuses[] = {{QpStatus::Converged, "converged"},
+                                              {QpStatus::MaxIterations, "max_iterations"},
+                                              {QpStatus::NotConvex, "not_convex"},
+                                              {QpStatus::InvalidInput, "invalid_input"}};
+
 }  // namespace
 
-const char* toString(QpStatus status) {
-  switch (status) {
-    case QpStatus::Converged: return "converged";
-    case QpStatus::MaxIterations: return "max_iterations";
-    case QpStatus::NotConvex: return "not_convex";
-    case QpStatus::InvalidInput: return "invalid_input";
-  }
-  return "unknown";
-}
+const char* toString(QpStatus status) { return nameOf(kQpStatuses, status); }
 
 void CappedSimplexQp::resize(const std::vector<int>& contact_sizes) {
   sizes_ = contact_sizes;
@@ -170,12 +169,7 @@ void CappedSimplexQp::solveReduced() {
   lowerTransposeSolve(L_.data(), L_.outerStride(), k, x);
 }
 
-bool CappedSimplexQp::solveEqp() {
-  const int k = static_cast<int>(free_.size());
-  const int m = static_cast<int>(capped_.size());
-  zs_.setZero();
-  ds_ = -w_;
-  if (k == 0) return m == 0;
+bool CappedSimplexQp::factorWorkingSet(int k, int m) {
   if (!factor_valid_) {
     for (int b = 0; b < k; ++b)
       for (int a = b; a < k; ++a) L_(a, b) = H_(free_[a], free_[b]);
@@ -184,31 +178,34 @@ bool CappedSimplexQp::solveEqp() {
     updates_since_factor_ = 0;
     ++factorizations_;
   }
-  if (m > 0) {
-    U_.topLeftCorner(k, m).setZero();
-    for (int a = 0; a < k; ++a) {
-      const int j = cap_index_[contact_of_[free_[a]]];
-      if (j >= 0) U_(a, j) = 1.0;
-    }
-    for (int j = 0; j < m; ++j) {  // V = L⁻¹Eᵀ, from the column's first nonzero (zeros above stay zero)
-      double* Vj = U_.data() + j * U_.outerStride();
-      int first = 0;
-      while (first < k && Vj[first] == 0.0) ++first;
-      lowerSolve(L_.data(), L_.outerStride(), k, Vj, first);
-    }
-    for (int a = 0; a < m; ++a) {
-      const double* Va = U_.data() + a * U_.outerStride();
-      for (int b = 0; b <= a; ++b) {
-        const double* Vb = U_.data() + b * U_.outerStride();
-        double s = 0;
-        for (int r = 0; r < k; ++r) s += Va[r] * Vb[r];
-        S_(a, b) = s;
-      }
-    }
-    if (!cholesky(S_.data(), S_.outerStride(), m)) return false;
+  if (m == 0) return true;
+  U_.topLeftCorner(k, m).setZero();
+  for (int a = 0; a < k; ++a) {
+    const int j = cap_index_[contact_of_[free_[a]]];
+    if (j >= 0) U_(a, j) = 1.0;
   }
-  // Displacement form d = z − w (exact Δw = 0 when g = 0, no cancellation against w):
-  //   H_SS d_S + Eᵀν = −g_S + H_SF w_F,   E d_S = 1 − E w_S   (fixed: d_F = −w_F).
+  for (int j = 0; j < m; ++j) {  // V = L⁻¹Eᵀ, from the column's first nonzero (zeros above stay zero)
+    double* Vj = U_.data() + j * U_.outerStride();
+    int first = 0;
+    while (first < k && Vj[first] == 0.0) ++first;
+    lowerSolve(L_.data(), L_.outerStride(), k, Vj, first);
+  }
+  for (int a = 0; a < m; ++a) {
+    const double* Va = U_.data() + a * U_.outerStride();
+    for (int b = 0; b <= a; ++b) {
+      const double* Vb = U_.data() + b * U_.outerStride();
+      double s = 0;
+      for (int r = 0; r < k; ++r) s += Va[r] * Vb[r];
+      S_(a, b) = s;
+    }
+  }
+  return cholesky(S_.data(), S_.outerStride(), m);
+}
+
+// Displacement form d = z − w (exact Δw = 0 when g = 0, no cancellation against w):
+//   H_SS d_S + Eᵀν = −g_S + H_SF w_F,   E d_S = 1 − E w_S   (fixed: d_F = −w_F),
+// with one step of iterative refinement if options.refine.
+void CappedSimplexQp::solveDisplacement(int k, int m) {
   bool any_fixed_nonzero = false;
   for (int i = 0; i < n_; ++i) {
     xf_[i] = active_.at_bound[i] ? w_[i] : 0.0;
@@ -230,27 +227,36 @@ bool CappedSimplexQp::solveEqp() {
   solveReduced();
   for (int a = 0; a < k; ++a) x0_[a] = y_[a];
   for (int j = 0; j < m; ++j) nu_[j] = nuv_[j];  // compressed until finalize
-  if (options.refine) {
-    // residual r − H_SS x − Eᵀν, rc − E x
-    xf_.setZero();
-    for (int a = 0; a < k; ++a) xf_[free_[a]] = x0_[a];
-    sparseProduct(H_, xf_, hx_);
-    for (int a = 0; a < k; ++a) {
-      const int ia = free_[a];
-      double s = r_[a] - hx_[ia];
-      const int j = cap_index_[contact_of_[ia]];
-      if (j >= 0) s -= nu_[j];
-      y_[a] = s;
-    }
-    rnu_.head(m) = rc_.head(m);
-    for (int a = 0; a < k; ++a) {
-      const int j = cap_index_[contact_of_[free_[a]]];
-      if (j >= 0) rnu_[j] -= x0_[a];
-    }
-    solveReduced();
-    for (int a = 0; a < k; ++a) x0_[a] += y_[a];
-    for (int j = 0; j < m; ++j) nu_[j] += nuv_[j];
+  if (!options.refine) return;
+  // residual r − H_SS x − Eᵀν, rc − E x
+  xf_.setZero();
+  for (int a = 0; a < k; ++a) xf_[free_[a]] = x0_[a];
+  sparseProduct(H_, xf_, hx_);
+  for (int a = 0; a < k; ++a) {
+    const int ia = free_[a];
+    double s = r_[a] - hx_[ia];
+    const int j = cap_index_[contact_of_[ia]];
+    if (j >= 0) s -= nu_[j];
+    y_[a] = s;
   }
+  rnu_.head(m) = rc_.head(m);
+  for (int a = 0; a < k; ++a) {
+    const int j = cap_index_[contact_of_[free_[a]]];
+    if (j >= 0) rnu_[j] -= x0_[a];
+  }
+  solveReduced();
+  for (int a = 0; a < k; ++a) x0_[a] += y_[a];
+  for (int j = 0; j < m; ++j) nu_[j] += nuv_[j];
+}
+
+bool CappedSimplexQp::solveEqp() {
+  const int k = static_cast<int>(free_.size());
+  const int m = static_cast<int>(capped_.size());
+  zs_.setZero();
+  ds_ = -w_;
+  if (k == 0) return m == 0;
+  if (!factorWorkingSet(k, m)) return false;
+  solveDisplacement(k, m);
   for (int i = 0; i < n_; ++i)
     if (active_.at_bound[i]) ds_[i] = -w_[i];
   for (int a = 0; a < k; ++a) {
@@ -318,11 +324,169 @@ void CappedSimplexQp::computeGradient() {
   grad_ += g_;
 }
 
+bool CappedSimplexQp::warmMinimizerFeasible(double feas_tol) const {
+  for (int c = 0; c < contacts(); ++c) {
+    double s = 0;
+    for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) {
+      if (zs_[i] < -feas_tol) return false;
+      s += zs_[i];
+    }
+    if (!active_.cap[c] && s > 1.0 + feas_tol) return false;
+  }
+  return true;
+}
+
+bool CappedSimplexQp::startAt(const Eigen::VectorXd& w, const QpActiveSet* warm, double feas_tol, QpResult& result) {
+  const int n = n_;
+  const int C = contacts();
+  // Feasible starting point: w, repaired.
+  z_ = w;
+  for (int c = 0; c < C; ++c) {
+    auto zc = z_.segment(offsets_[c], sizes_[c]);
+    zc = zc.cwiseMax(0.0);
+    const double s = zc.sum();
+    if (s > 1.0) zc /= s;
+  }
+  d_ = z_ - w_;
+  const bool warm_ok = warm && static_cast<int>(warm->at_bound.size()) == n && static_cast<int>(warm->cap.size()) == C;
+  if (warm_ok) {
+    for (int i = 0; i < n; ++i) active_.at_bound[i] = warm->at_bound[i] ? 1 : 0;
+    for (int c = 0; c < C; ++c) {
+      bool any_free = false;
+      for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) any_free = any_free || !active_.at_bound[i];
+      active_.cap[c] = (warm->cap[c] && any_free) ? 1 : 0;
+    }
+    buildLists();
+    ++result.iterations;
+    if (solveEqp() && warmMinimizerFeasible(feas_tol)) {
+      for (int i = 0; i < n; ++i) {
+        d_[i] = zs_[i] > 0.0 ? ds_[i] : -w_[i];
+        z_[i] = std::max(zs_[i], 0.0);
+      }
+      result.warm_start_used = true;
+      return true;
+    }
+    // keep the part of the warm set that is active at the start point
+    for (int i = 0; i < n; ++i) active_.at_bound[i] = (warm->at_bound[i] && z_[i] <= 0.0) ? 1 : 0;
+    factor_valid_ = false;
+  } else {
+    for (int i = 0; i < n; ++i) active_.at_bound[i] = z_[i] <= 0.0 ? 1 : 0;
+  }
+  for (int c = 0; c < C; ++c) {
+    const double s = z_.segment(offsets_[c], sizes_[c]).sum();
+    bool any_free = false;
+    for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) any_free = any_free || !active_.at_bound[i];
+    const bool active_here = s >= 1.0 - 8 * std::numeric_limits<double>::epsilon() * std::max(1, sizes_[c]);
+    // cold: every cap active at the start point; warm: only those of the warm set
+    active_.cap[c] = (active_here && any_free && (!warm_ok || warm->cap[c])) ? 1 : 0;
+  }
+  return false;
+}
+
+bool CappedSimplexQp::stepTowardMinimizer(QpResult& result) {
+  // ratio test along p = zs − z
+  double alpha = 1.0;
+  int block_bound = -1, block_cap = -1;
+  for (int i : free_) {
+    p_[i] = ds_[i] - d_[i];
+    if (p_[i] < 0) {
+      const double t = std::max(0.0, z_[i]) / -p_[i];
+      if (t < alpha) {
+        alpha = t;
+        block_bound = i;
+        block_cap = -1;
+      }
+    }
+  }
+  for (int c = 0; c < contacts(); ++c) {
+    if (active_.cap[c]) continue;
+    double sp = 0, sz = 0;
+    for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) {
+      if (active_.at_bound[i]) continue;
+      sp += p_[i];
+      sz += z_[i];
+    }
+    if (sp > 0) {
+      const double t = std::max(0.0, 1.0 - sz) / sp;
+      if (t < alpha) {
+        alpha = t;
+        block_cap = c;
+        block_bound = -1;
+      }
+    }
+  }
+  if (block_bound < 0 && block_cap < 0) {
+    d_ = ds_;
+    z_ = zs_;
+    return true;
+  }
+  for (int i : free_) {
+    d_[i] += alpha * p_[i];
+    z_[i] = w_[i] + d_[i];
+  }
+  ++result.active_set_changes;
+  if (block_bound >= 0) {
+    z_[block_bound] = 0.0;
+    d_[block_bound] = -w_[block_bound];
+    active_.at_bound[block_bound] = 1;
+    removeFree(block_bound);
+  } else {
+    active_.cap[block_cap] = 1;
+  }
+  return false;
+}
+
+bool CappedSimplexQp::dropConstraint(double dual_tol, QpResult& result) {
+  computeGradient();
+  double most_negative = -dual_tol;
+  int drop_bound = -1, drop_cap = -1;
+  for (int i = 0; i < n_; ++i) {
+    if (!active_.at_bound[i]) continue;
+    const int j = cap_index_[contact_of_[i]];
+    const double lam = grad_[i] + (j >= 0 ? nu_[j] : 0.0);
+    if (lam < most_negative) {
+      most_negative = lam;
+      drop_bound = i;
+      drop_cap = -1;
+    }
+  }
+  for (int j = 0; j < static_cast<int>(capped_.size()); ++j) {
+    if (nu_[j] < most_negative) {
+      most_negative = nu_[j];
+      drop_cap = capped_[j];
+      drop_bound = -1;
+    }
+  }
+  if (drop_bound < 0 && drop_cap < 0) return false;
+  ++result.active_set_changes;
+  if (drop_bound >= 0) {
+    active_.at_bound[drop_bound] = 0;
+    appendFree(drop_bound);
+  } else {
+    active_.cap[drop_cap] = 0;
+  }
+  return true;
+}
+
+// Final multipliers over the final working set (from the last solve; recomputed if a drop happened).
+void CappedSimplexQp::finishMultipliers(const QpResult& result) {
+  if (result.status != QpStatus::Converged) {
+    buildLists();
+    if (result.status == QpStatus::NotConvex || !solveEqp()) nu_.head(capped_.size()).setZero();
+    computeGradient();
+  }
+  const int m = static_cast<int>(capped_.size());
+  for (int j = 0; j < m; ++j) nuv_[j] = nu_[j];
+  nu_.setZero();
+  for (int j = 0; j < m; ++j) nu_[capped_[j]] = nuv_[j];
+  for (int i = 0; i < n_; ++i)
+    lambda_[i] = active_.at_bound[i] ? grad_[i] + (active_.cap[contact_of_[i]] ? nu_[contact_of_[i]] : 0.0) : 0.0;
+}
+
 QpResult CappedSimplexQp::solve(const Eigen::MatrixXd& Q, double beta, const Eigen::VectorXd& g,
                                 const Eigen::VectorXd& w, Eigen::VectorXd& dw, const QpActiveSet* warm) {
   QpResult result;
   const int n = n_;
-  const int C = contacts();
   if (Q.rows() != n || Q.cols() != n || g.size() != n || w.size() != n || !(beta >= 0) || !std::isfinite(beta) ||
       !allFinite(Q.data(), Q.size()) || !allFinite(g.data(), g.size()) || !allFinite(w.data(), w.size())) {
     result.status = QpStatus::InvalidInput;
@@ -344,66 +508,9 @@ QpResult CappedSimplexQp::solve(const Eigen::MatrixXd& Q, double beta, const Eig
   const double dual_tol = options.dual_tolerance * scale_;
   const double feas_tol = options.feasibility_tolerance;
 
-  // Feasible starting point: w, repaired.
-  z_ = w;
-  for (int c = 0; c < C; ++c) {
-    auto zc = z_.segment(offsets_[c], sizes_[c]);
-    zc = zc.cwiseMax(0.0);
-    const double s = zc.sum();
-    if (s > 1.0) zc /= s;
-  }
-  d_ = z_ - w_;
-
-  bool at_minimizer = false;
   factor_valid_ = false;
   factorizations_ = 0;
-  const bool warm_ok = warm && static_cast<int>(warm->at_bound.size()) == n && static_cast<int>(warm->cap.size()) == C;
-  if (warm_ok) {
-    for (int i = 0; i < n; ++i) active_.at_bound[i] = warm->at_bound[i] ? 1 : 0;
-    for (int c = 0; c < C; ++c) {
-      bool any_free = false;
-      for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) any_free = any_free || !active_.at_bound[i];
-      active_.cap[c] = (warm->cap[c] && any_free) ? 1 : 0;
-    }
-    buildLists();
-    ++result.iterations;
-    if (solveEqp()) {
-      bool feasible = true;
-      for (int c = 0; c < C && feasible; ++c) {
-        double s = 0;
-        for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) {
-          if (zs_[i] < -feas_tol) feasible = false;
-          s += zs_[i];
-        }
-        if (!active_.cap[c] && s > 1.0 + feas_tol) feasible = false;
-      }
-      if (feasible) {
-        for (int i = 0; i < n; ++i) {
-          d_[i] = zs_[i] > 0.0 ? ds_[i] : -w_[i];
-          z_[i] = std::max(zs_[i], 0.0);
-        }
-        at_minimizer = true;
-        result.warm_start_used = true;
-      }
-    }
-    if (!at_minimizer) {  // keep the part of the warm set that is active at the start point
-      for (int i = 0; i < n; ++i) active_.at_bound[i] = (warm->at_bound[i] && z_[i] <= 0.0) ? 1 : 0;
-      factor_valid_ = false;
-    }
-  } else {
-    for (int i = 0; i < n; ++i) active_.at_bound[i] = z_[i] <= 0.0 ? 1 : 0;
-  }
-  if (!at_minimizer) {
-    for (int c = 0; c < C; ++c) {
-      const double s = z_.segment(offsets_[c], sizes_[c]).sum();
-      bool any_free = false;
-      for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) any_free = any_free || !active_.at_bound[i];
-      const bool active_here = s >= 1.0 - 8 * std::numeric_limits<double>::epsilon() * std::max(1, sizes_[c]);
-      // cold: every cap active at the start point; warm: only those of the warm set
-      active_.cap[c] = (active_here && any_free && (!warm_ok || warm->cap[c])) ? 1 : 0;
-    }
-  }
-
+  bool at_minimizer = startAt(w, warm, feas_tol, result);
   result.status = QpStatus::MaxIterations;
   while (true) {
     if (!at_minimizer) {
@@ -417,105 +524,16 @@ QpResult CappedSimplexQp::solve(const Eigen::MatrixXd& Q, double beta, const Eig
         result.status = QpStatus::NotConvex;
         break;
       }
-      // ratio test along p = zs − z
-      double alpha = 1.0;
-      int block_bound = -1, block_cap = -1;
-      for (int i : free_) {
-        p_[i] = ds_[i] - d_[i];
-        if (p_[i] < 0) {
-          const double t = std::max(0.0, z_[i]) / -p_[i];
-          if (t < alpha) {
-            alpha = t;
-            block_bound = i;
-            block_cap = -1;
-          }
-        }
-      }
-      for (int c = 0; c < C; ++c) {
-        if (active_.cap[c]) continue;
-        double sp = 0, sz = 0;
-        for (int i = offsets_[c]; i < offsets_[c + 1]; ++i) {
-          if (active_.at_bound[i]) continue;
-          sp += p_[i];
-          sz += z_[i];
-        }
-        if (sp > 0) {
-          const double t = std::max(0.0, 1.0 - sz) / sp;
-          if (t < alpha) {
-            alpha = t;
-            block_cap = c;
-            block_bound = -1;
-          }
-        }
-      }
-      if (block_bound < 0 && block_cap < 0) {
-        d_ = ds_;
-        z_ = zs_;
-        at_minimizer = true;
-      } else {
-        for (int i : free_) {
-          d_[i] += alpha * p_[i];
-          z_[i] = w_[i] + d_[i];
-        }
-        ++result.active_set_changes;
-        if (block_bound >= 0) {
-          z_[block_bound] = 0.0;
-          d_[block_bound] = -w_[block_bound];
-          active_.at_bound[block_bound] = 1;
-          removeFree(block_bound);
-        } else {
-          active_.cap[block_cap] = 1;
-        }
-        continue;
-      }
+      if (!stepTowardMinimizer(result)) continue;
     }
     // At the minimizer of the working set: multipliers.
     at_minimizer = false;
-    computeGradient();
-    double most_negative = -dual_tol;
-    int drop_bound = -1, drop_cap = -1;
-    for (int i = 0; i < n; ++i) {
-      if (!active_.at_bound[i]) continue;
-      const int j = cap_index_[contact_of_[i]];
-      const double lam = grad_[i] + (j >= 0 ? nu_[j] : 0.0);
-      if (lam < most_negative) {
-        most_negative = lam;
-        drop_bound = i;
-        drop_cap = -1;
-      }
-    }
-    for (int j = 0; j < static_cast<int>(capped_.size()); ++j) {
-      if (nu_[j] < most_negative) {
-        most_negative = nu_[j];
-        drop_cap = capped_[j];
-        drop_bound = -1;
-      }
-    }
-    if (drop_bound < 0 && drop_cap < 0) {
+    if (!dropConstraint(dual_tol, result)) {
       result.status = QpStatus::Converged;
       break;
     }
-    ++result.active_set_changes;
-    if (drop_bound >= 0) {
-      active_.at_bound[drop_bound] = 0;
-      appendFree(drop_bound);
-    } else {
-      active_.cap[drop_cap] = 0;
-    }
   }
-
-  // Final multipliers over the final working set (from the last solve; recomputed if a drop happened).
-  if (result.status != QpStatus::Converged) {
-    buildLists();
-    if (result.status == QpStatus::NotConvex || !solveEqp()) nu_.head(capped_.size()).setZero();
-    computeGradient();
-  }
-  const int m = static_cast<int>(capped_.size());
-  for (int j = 0; j < m; ++j) nuv_[j] = nu_[j];
-  nu_.setZero();
-  for (int j = 0; j < m; ++j) nu_[capped_[j]] = nuv_[j];
-  for (int i = 0; i < n; ++i)
-    lambda_[i] = active_.at_bound[i] ? grad_[i] + (active_.cap[contact_of_[i]] ? nu_[contact_of_[i]] : 0.0) : 0.0;
+  finishMultipliers(result);
   dw = d_;
   result.factorizations = factorizations_;
   return result;

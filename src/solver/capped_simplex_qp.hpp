@@ -88,6 +88,19 @@ class CappedSimplexQp {
  private:
   // Solves the equality-constrained QP of the working set; writes zs_ (all n, fixed = 0) and nu_.
   bool solveEqp();
+  bool factorWorkingSet(int k, int m);  // L of H_SS (if not valid) and S's Cholesky factor; false if not PD
+  void solveDisplacement(int k, int m);  // x0_ and nu_ for the factored working set
+  // The start of solve(): w repaired into z_, the working set from `warm` (or the bounds and caps
+  // active at z_); true when the warm set's minimizer is already feasible (then z_ is it).
+  bool startAt(const Eigen::VectorXd& w, const QpActiveSet* warm, double feas_tol, QpResult& result);
+  bool warmMinimizerFeasible(double feas_tol) const;
+  // One primal step toward the working set's minimizer: to it (returns true), or to the first
+  // blocking bound or cap, which joins the working set (returns false).
+  bool stepTowardMinimizer(QpResult& result);
+  // At the working set's minimizer: drops the most negative multiplier's constraint; false when
+  // none is below −dual_tol (optimal).
+  bool dropConstraint(double dual_tol, QpResult& result);
+  void finishMultipliers(const QpResult& result);  // λ and ν (by contact) of the final working set
   void buildLists();  // free set and caps from the working set; invalidates the factor
   void buildCaps();
   void removeFree(int i);

@@ -18,7 +18,7 @@ namespace {
 // the AVX path does it explicitly), and maxima of magnitudes, which are exact in any order. A NaN
 // is skipped by the maxima in both, as std::max(largest, NaN) keeps largest. The AVX path does
 // whole 4-wide chunks and leaves the last count mod 4 entries to the scalar loop: masked stores
-// take fewer instructions, but loads from them cannot be forwarded and stalled compute() by 25 %.
+// take fewer instructions, but loads from them cannot be forwarded and stall compute().
 #ifdef NMDP_LU_AVX2
 __m256d magnitude(__m256d x) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), x); }
 

@@ -1,42 +1,8 @@
 #include "solver/contact_kinematics.hpp"
 
-#include <algorithm>
-
-#include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 
 namespace nmdp {
-
-Vec3 legAxisOf(const Model& model, int link, const Vec3& offset, double radius) {
-  Data data(model);
-  forwardKinematics(model, data, Eigen::VectorXd::Zero(model.nq));
-  Mat3 R;
-  Vec3 p;
-  linkPose(model, data, link, R, p);
-  const Vec3 centre = p + R * offset;
-  for (int a = link; a >= 0; a = model.links[a].parent_link) {
-    Mat3 Ra;
-    Vec3 pa;
-    linkPose(model, data, a, Ra, pa);
-    const Vec3 up = pa - centre;
-    if (up.norm() > std::max(radius, 1e-9)) return (R.transpose() * up).normalized();
-  }
-  return Vec3::UnitZ();
-}
-
-std::vector<ContactPoint> footContactPoints(const Model& model) {
-  std::vector<ContactPoint> out;
-  for (const FootContact& f : detectFeet(model)) {
-    ContactPoint c;
-    c.name = f.link;
-    c.link = model.linkIndex(f.link);
-    c.offset = f.offset;
-    c.radius = f.radius;
-    c.leg_axis = legAxisOf(model, c.link, c.offset, c.radius);
-    out.push_back(c);
-  }
-  return out;
-}
 
 void contactFrame(const Model& model, const Data& data, const ContactPoint& contact, ContactFrame& out) {
   Mat3 R;

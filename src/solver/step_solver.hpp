@@ -13,36 +13,28 @@
 // The zeroth-order variants never ask the model for dV/dξ: D and Newton use central differences of V
 // (ZerothOrderJacobian::FiniteDifference) or the paper's ∂Ḡ/∂θ with that term dropped.
 //
-// Proj(θ, w): Newton on G(·, w) = 0 with a complete-pivoting LU (rank-revealing, as FullPivLU), kept
-// across steps while they contract (chord steps, Anderson-accelerated). A Newton step is
-// accepted only if ‖G‖₂ decreases; a step that still does not after projection_backtracking
-// halvings, a rank-deficient Jacobian, or the iteration cap is divergence (the paper notes the
-// projection can diverge without a line search; the stiff contact makes the full step overshoot on
-// landing, and the paper's zeroth-order ∂Ḡ/∂θ lacks that stiffness). Converged when ‖G‖∞ ≤
-// projection_tolerance · m‖g‖ plus a round-off allowance that grows as 1/h² (the inertial term is
-// (θ − q_n)/h² and θ carries round-off). A trial θ' of the PGM loop is projected only until its
-// residual r can no longer change the trust-region test: |λᵀr| ≤ 0.1 × the predicted decrease of K
-// (λ the adjoint (∂G/∂θ)⁻ᵀ∇K); the final θ is projected to the full tolerance.
+// Proj(θ, w) is solver/manifold_projection.hpp. A trial θ' of the PGM loop (solver/pgm.cpp) is
+// projected only until its residual r can no longer change the trust-region test: |λᵀr| ≤ 0.1 × the
+// predicted decrease of K (λ the adjoint (∂G/∂θ)⁻ᵀ∇K); the final θ is projected to the full tolerance.
 //
-// ne-mdp (DESIGN.md 6): explicit PD and dynamics at (q_n, q̇_n), vertices at q_n, one QP for the
-// weights that minimise the kinetic energy of the post-contact velocity, symplectic Euler update.
+// ne-mdp (DESIGN.md 6, solver/ne_mdp.cpp): explicit PD and dynamics at (q_n, q̇_n), vertices at q_n,
+// one QP for the weights that minimise the kinetic energy of the post-contact velocity, symplectic
+// Euler update.
 //
 // All buffers are sized in the constructor; attempt() allocates nothing.
 #pragma once
 #include <Eigen/Cholesky>
 
-#include "solver/anderson_acceleration.hpp"
 #include "solver/capped_simplex_qp.hpp"
-#include "solver/complete_pivoting_lu.hpp"
+#include "solver/manifold_projection.hpp"
 #include "solver/step_residual.hpp"
 
 namespace nmdp {
 
-struct StepAttempt {
-  StepStatus status = StepStatus::Converged;
-  int outer_iterations = 0, g_evaluations = 0, projections = 0, newton_iterations = 0, rejected = 0;
-  // The first accepted move: its actual decrease of K over the QP's predicted one (−1 if there was
-  // none), and the β it was accepted at.
+// One attempt: its status and iteration counts (the sub-step fields of StepStats stay unset), and
+// the first accepted move's actual decrease of K over the QP's predicted one (−1 if there was none)
+// with the β it was accepted at.
+struct StepAttempt : StepStats {
   double first_agreement = -1, first_beta = 0;
 };
 
@@ -64,14 +56,21 @@ class StepSolver {
   StepResidual& residual() { return residual_; }
 
  private:
+  // What the PGM loop does next: iterate again, stop converged, or stop failed (status set).
+  enum class PgmNext { Iterate, Converged, Fail };
+  struct PgmLoop;  // the outer loop's state (solver/pgm.cpp)
+
   StepAttempt pgm(const System& system, const IntegratorOptions& options, const SimulationState& state, double h,
                   const PdTarget& target, const Eigen::VectorXd& w_start, double& beta, CancelFlag cancel);
+  void preparePgm(const System& system, const IntegratorOptions& options, const SimulationState& state, double h,
+                  const PdTarget& target, const Eigen::VectorXd& w_start);
+  bool computeDirection(const System& system, PgmLoop& loop, StepAttempt& stats);
+  PgmNext confirmConvergence(const IntegratorOptions& options, const PgmLoop& loop, double& beta, StepAttempt& stats);
+  PgmNext tryMove(const System& system, const IntegratorOptions& options, PgmLoop& loop, double& beta,
+                  StepAttempt& stats);
+  void finishPgm(const System& system, const IntegratorOptions& options, const PgmLoop& loop, StepAttempt& stats);
   StepAttempt neMdp(const System& system, const SimulationState& state, double h, const PdTarget& target,
                     const Eigen::VectorXd& w_start);
-  // Newton on G(·, w) = 0 from θ (in place), to the projection tolerance or to `loose` if that is
-  // larger. On success the residual holds the evaluation at θ.
-  bool project(const System& system, const IntegratorOptions& options, Eigen::VectorXd& theta,
-               const Eigen::VectorXd& w, ContactDerivative derivative, StepAttempt& stats, double loose = 0.0);
   void scaleFromQ();          // penalty_scale_ from the diagonal of Q_
   bool solveQp(double beta);  // Δw into dw_ with the penalty β·diag(penalty_scale_); false if the QP failed
   // Whether dw_ is a step to try: its contact force change above tol_w·m‖g‖, and predicted to lower
@@ -82,12 +81,7 @@ class StepSolver {
   CappedSimplexQp qp_;
   QpActiveSet warm_;
   bool warm_valid_ = false;
-  CompletePivotingLu lu_;
-  bool factorization_valid_ = false;  // lu_ factors a full-rank ∂G/∂θ of this step at some iterate
-  // Newton keeps an old factorization while each (accelerated) step shrinks ‖G‖₂ at least by this
-  // factor; Anderson acceleration of those chord steps remembers this many of them.
-  static constexpr double kRefreshContraction = 0.5;
-  static constexpr int kAndersonMemory = 3;
+  ManifoldProjection projection_;
   // A trial PGM step is projected until its residual moves K by at most this fraction of the decrease
   // the QP predicts (see pgm()); the accepted solution is then projected to the full tolerance.
   static constexpr double kTrialLooseness = 0.1;
@@ -97,9 +91,9 @@ class StepSolver {
   static constexpr double kModelAgreed = 0.75, kSamePace = 0.3;
   // DESIGN.md's reference η, the most β relaxes by with the dropped zeroth-order term (but for η_limited).
   static constexpr double kDesignRelaxation = 1.5;
-  AndersonAcceleration anderson_;
   Eigen::LLT<Eigen::MatrixXd> llt_;
-  Eigen::VectorXd theta_, theta_trial_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, step_, tau_;
+  Eigen::VectorXd theta_, theta_candidate_, velocity_, w_, w_trial_, dw_, g_, tau_;
+  Eigen::VectorXd zero_acceleration_;  // ne-mdp's RNEA argument: C q̇ + g without the inertial term
   Eigen::MatrixXd D_, Q_, HD_;
   Eigen::VectorXd Qdw_, generalized_force_change_;
   Eigen::VectorXd penalty_scale_;  // the unit of β per weight: max(Q_ii, 1e-12·max Q_ii)
@@ -108,7 +102,6 @@ class StepSolver {
   Eigen::VectorXd adjoint_;  // λ = (∂G/∂θ)⁻ᵀ ∇K at the current iterate: K moves by λᵀr for a residual r
   double adjoint_norm_ = 0.0;  // ‖λ‖₁
   double predicted_decrease_ = 0.0;    // of K, by the QP model, for the last step
-  double projection_tolerance_ = 0.0;  // ‖G‖∞ tolerance of the last projection
   double weight_scale_ = 1.0;  // m‖g‖, or m·1 m/s² without gravity
   double mass_scale_ = 1.0;
   int K_vertices_ = 0;

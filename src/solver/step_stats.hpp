@@ -47,4 +47,8 @@ struct StepStats {
   StepEnergy energy;
 };
 
+// Adds the solver's iteration counts of one attempt (outer iterations, G evaluations, projections,
+// Newton iterations, rejected moves) to a step's total.
+void addIterationCounts(StepStats& total, const StepStats& attempt);
+
 }  // namespace nmdp

@@ -75,7 +75,7 @@ TEST(DefaultGains, ComputedFromTheMassMatrixAndTheFootJacobianAtThePose) {
     Data d(model);
     forwardKinematics(model, d, x);
     std::vector<Vec3> out;
-    for (const FootContact& f : feet) out.push_back(linkPoint(model, d, model.linkIndex(f.link), f.offset));
+    for (const FootContact& f : feet) out.push_back(linkPoint(model, d, model.linkIndex(f.point.name), f.point.offset));
     return out;
   };
   int actuated = 0;

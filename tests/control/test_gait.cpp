@@ -56,7 +56,7 @@ TEST_P(QuadrupedTest, LegsAreTheChainsFromTrunkToFeet) {
   const char* prefixes[4][2] = {{"FL", "FL"}, {"FR", "FR"}, {"RL", "HL"}, {"RR", "HR"}};
   for (int id = 0; id < 4; ++id) {
     const Leg& leg = legs.legs[id];
-    const std::string& foot = leg.foot_link;
+    const std::string& foot = leg.foot.name;
     EXPECT_TRUE(foot.rfind(prefixes[id][0], 0) == 0 || foot.rfind(prefixes[id][1], 0) == 0)
         << legIdName(static_cast<LegId>(id)) << " got " << foot;
     ASSERT_EQ(leg.joints.size(), 3u) << foot;
@@ -114,7 +114,7 @@ TEST_P(QuadrupedTest, StandingPosePutsFeetUnderTheHipsAtTheHeight) {
     const Vec3 straight = ik.footInTrunk(leg, zero), foot = ik.footInTrunk(leg, pose.q);
     EXPECT_NEAR(foot.x(), straight.x(), 1e-9);
     EXPECT_NEAR(foot.y(), straight.y(), 1e-9);
-    EXPECT_NEAR(foot.z() - leg.foot_radius, -pose.height, 1e-9);
+    EXPECT_NEAR(foot.z() - leg.foot.radius, -pose.height, 1e-9);
     EXPECT_GT(ik.conditioning(leg, pose.q), 1e-2) << "knee left straight";
   }
   const KeyframePdTarget stand = makeStandTarget(model);
@@ -127,7 +127,7 @@ TEST_P(QuadrupedTest, StandingPosePutsFeetUnderTheHipsAtTheHeight) {
   lower.height = 0.7 * pose.straight_height;
   const StandingPose low = standingPose(model, legs, lower);
   for (int id = 0; id < 4; ++id)
-    EXPECT_NEAR(ik.footInTrunk(legs.legs[id], low.q).z() - legs.legs[id].foot_radius, -*lower.height, 1e-9);
+    EXPECT_NEAR(ik.footInTrunk(legs.legs[id], low.q).z() - legs.legs[id].foot.radius, -*lower.height, 1e-9);
   StandParameters nominal;
   nominal.nominal_q = pose.q;
   const StandingPose same = standingPose(model, legs, nominal);

@@ -22,7 +22,7 @@ constexpr double kPi = 3.14159265358979323846;
 
 std::vector<std::string> footLinks(const std::vector<FootContact>& feet) {
   std::vector<std::string> names;
-  for (const FootContact& f : feet) names.push_back(f.link);
+  for (const FootContact& f : feet) names.push_back(f.point.name);
   return names;
 }
 
@@ -127,13 +127,31 @@ TEST(Feet, QuadrupedHasFourSphereFeetUnderEveryBase) {
     ASSERT_EQ(footLinks(feet), (std::vector<std::string>{"FL_foot", "FR_foot", "RL_foot", "RR_foot"}))
         << baseTypeName(base);
     for (const FootContact& f : feet) {
-      EXPECT_EQ(f.offset, Vec3::Zero()) << f.link;
-      EXPECT_DOUBLE_EQ(f.radius, 0.02) << f.link;
+      EXPECT_EQ(f.point.offset, Vec3::Zero()) << f.point.name;
+      EXPECT_DOUBLE_EQ(f.point.radius, 0.02) << f.point.name;
       EXPECT_EQ(f.source, "sphere");
       EXPECT_TRUE(f.warning.empty()) << f.warning;
-      EXPECT_EQ(f.link.find("imu"), std::string::npos);
-      EXPECT_EQ(f.link.find("rotor"), std::string::npos);
+      EXPECT_EQ(f.point.name.find("imu"), std::string::npos);
+      EXPECT_EQ(f.point.name.find("rotor"), std::string::npos);
     }
+  }
+}
+
+// A detected foot is a complete contact point: its link index names its link, and its leg axis is
+// legAxisOf's (up the leg: +z in the quadruped's foot frames), as footContactPoints hands it on.
+TEST(Feet, DetectedFootIsACompleteContactPoint) {
+  const Model model = loadUrdf(quadrupedUrdf());
+  const auto feet = detectFeet(model);
+  const std::vector<ContactPoint> points = footContactPoints(model);
+  ASSERT_EQ(points.size(), feet.size());
+  for (size_t i = 0; i < feet.size(); ++i) {
+    const ContactPoint& p = feet[i].point;
+    EXPECT_EQ(p.link, model.linkIndex(p.name)) << p.name;
+    EXPECT_EQ(p.leg_axis, legAxisOf(model, p.link, p.offset, p.radius)) << p.name;
+    EXPECT_LT((p.leg_axis - Vec3::UnitZ()).norm(), 1e-12) << p.name;
+    EXPECT_EQ(points[i].name, p.name);
+    EXPECT_EQ(points[i].link, p.link);
+    EXPECT_EQ(points[i].leg_axis, p.leg_axis);
   }
 }
 
@@ -147,8 +165,8 @@ TEST(Feet, A1HasItsFourFootSpheres) {
   // URDF order; never imu_link nor the massless *_thigh_shoulder leaf cylinders.
   ASSERT_EQ(footLinks(feet), (std::vector<std::string>{"FR_foot", "FL_foot", "RR_foot", "RL_foot"}));
   for (const FootContact& f : feet) {
-    EXPECT_EQ(f.offset, Vec3::Zero()) << f.link;
-    EXPECT_DOUBLE_EQ(f.radius, 0.02) << f.link;
+    EXPECT_EQ(f.point.offset, Vec3::Zero()) << f.point.name;
+    EXPECT_DOUBLE_EQ(f.point.radius, 0.02) << f.point.name;
     EXPECT_EQ(f.source, "sphere");
   }
 }
@@ -165,15 +183,15 @@ TEST(Feet, Solo12FeetAreFittedToTheLowestPointOfTheFootMesh) {
   Data data(model);
   forwardKinematics(model, data, Eigen::VectorXd::Zero(model.nq));
   for (const FootContact& f : feet) {
-    SCOPED_TRACE(f.link);
+    SCOPED_TRACE(f.point.name);
     EXPECT_EQ(f.source, "mesh cap");
     EXPECT_TRUE(f.warning.empty()) << f.warning;
-    EXPECT_GT(f.radius, 0.0155);
-    EXPECT_LT(f.radius, 0.0170);
-    EXPECT_LT(f.offset.norm(), 1e-3);  // the wheel's centre is the foot frame origin
+    EXPECT_GT(f.point.radius, 0.0155);
+    EXPECT_LT(f.point.radius, 0.0170);
+    EXPECT_LT(f.point.offset.norm(), 1e-3);  // the wheel's centre is the foot frame origin
 
     // The lowest point of the leg: every readable collision-mesh vertex of the leg's links at q = 0.
-    const int foot_link = model.linkIndex(f.link);
+    const int foot_link = model.linkIndex(f.point.name);
     double lowest = std::numeric_limits<double>::infinity();
     Vec3 lowest_point = Vec3::Zero();
     for (int l = foot_link; l >= 0 && model.links[l].body != model.root_body; l = model.links[l].parent_link) {
@@ -188,8 +206,8 @@ TEST(Feet, Solo12FeetAreFittedToTheLowestPointOfTheFootMesh) {
         }
       }
     }
-    const Vec3 centre = linkPoint(model, data, foot_link, f.offset);
-    EXPECT_NEAR(centre.z() - f.radius, lowest, 1e-6);  // the sphere touches the lowest vertex
+    const Vec3 centre = linkPoint(model, data, foot_link, f.point.offset);
+    EXPECT_NEAR(centre.z() - f.point.radius, lowest, 1e-6);  // the sphere touches the lowest vertex
     EXPECT_LT((centre - lowest_point).head<2>().norm(), 3e-3);  // right above it
   }
 }
@@ -205,13 +223,13 @@ void expectRoboSimianFeet(const Model& model) {
   forwardKinematics(model, data, Eigen::VectorXd::Zero(model.nq));
   const Vec3 torso = linkPoint(model, data, model.linkIndex("torso"), Vec3::Zero());
   for (const FootContact& f : feet) {
-    SCOPED_TRACE(f.link);
+    SCOPED_TRACE(f.point.name);
     EXPECT_EQ(f.source, "cylinder end");
-    EXPECT_DOUBLE_EQ(f.radius, 0.05);
-    EXPECT_LT((f.offset - Vec3(0.10, 0, 0)).norm(), 1e-4) << f.offset.transpose();
-    const int link7 = model.linkIndex(f.link);
+    EXPECT_DOUBLE_EQ(f.point.radius, 0.05);
+    EXPECT_LT((f.point.offset - Vec3(0.10, 0, 0)).norm(), 1e-4) << f.point.offset.transpose();
+    const int link7 = model.linkIndex(f.point.name);
     const double tip = (linkPoint(model, data, link7, Vec3(0.15, 0, 0)) - torso).norm();
-    const std::string limb = f.link.substr(0, 6);
+    const std::string limb = f.point.name.substr(0, 6);
     for (int l = 0; l < static_cast<int>(model.links.size()); ++l) {
       if (model.links[l].name.rfind(limb, 0) != 0) continue;
       EXPECT_LT((linkPoint(model, data, l, Vec3::Zero()) - torso).norm(), tip) << model.links[l].name;
@@ -246,10 +264,10 @@ TEST(Feet, MeshSphereFootIsRecoveredFromBinaryAndAsciiStl) {
   const Model model = loadUrdf(dir.file("robot.urdf"));
   const auto feet = detectFeet(model);
   ASSERT_EQ(footLinks(feet), (std::vector<std::string>{"leg0_foot", "leg1_foot"}));
-  EXPECT_NEAR(feet[0].radius, 0.03, 1e-6);
-  EXPECT_LT((feet[0].offset - Vec3(0, 0, -0.01)).norm(), 1e-6) << feet[0].offset.transpose();
-  EXPECT_NEAR(feet[1].radius, 0.03, 1e-6);
-  EXPECT_LT((feet[1].offset - Vec3(0.005, 0, -0.01)).norm(), 1e-6) << feet[1].offset.transpose();
+  EXPECT_NEAR(feet[0].point.radius, 0.03, 1e-6);
+  EXPECT_LT((feet[0].point.offset - Vec3(0, 0, -0.01)).norm(), 1e-6) << feet[0].point.offset.transpose();
+  EXPECT_NEAR(feet[1].point.radius, 0.03, 1e-6);
+  EXPECT_LT((feet[1].point.offset - Vec3(0.005, 0, -0.01)).norm(), 1e-6) << feet[1].point.offset.transpose();
   for (const FootContact& f : feet) {
     EXPECT_EQ(f.source, "mesh cap");
     EXPECT_TRUE(f.warning.empty());
@@ -265,8 +283,8 @@ TEST(Feet, UnreadableFootMeshFallsBackToTheLinkOriginWithAWarning) {
   const auto feet = detectFeet(loadUrdf(dir.file("robot.urdf")));
   ASSERT_EQ(footLinks(feet), (std::vector<std::string>{"leg0_foot", "leg1_foot"}));
   for (const FootContact& f : feet) {
-    EXPECT_EQ(f.offset, Vec3::Zero());
-    EXPECT_EQ(f.radius, 0.0);
+    EXPECT_EQ(f.point.offset, Vec3::Zero());
+    EXPECT_EQ(f.point.radius, 0.0);
     EXPECT_EQ(f.source, "link origin");
     EXPECT_NE(f.warning.find("could not be read"), std::string::npos) << f.warning;
   }
@@ -283,14 +301,14 @@ TEST(Feet, BoxAndCylinderFeetUseTheSphereInscribedAtTheirLowestEnd) {
   const auto feet = detectFeet(loadUrdf(dir.file("robot.urdf")));
   ASSERT_EQ(feet.size(), 3u);
   EXPECT_EQ(feet[0].source, "box face");
-  EXPECT_DOUBLE_EQ(feet[0].radius, 0.02);  // smallest half-extent
-  EXPECT_LT((feet[0].offset - Vec3(0, 0, 0.02)).norm(), 1e-12);  // touches the bottom face at z = 0
+  EXPECT_DOUBLE_EQ(feet[0].point.radius, 0.02);  // smallest half-extent
+  EXPECT_LT((feet[0].point.offset - Vec3(0, 0, 0.02)).norm(), 1e-12);  // touches the bottom face at z = 0
   EXPECT_EQ(feet[1].source, "cylinder end");
-  EXPECT_DOUBLE_EQ(feet[1].radius, 0.015);
-  EXPECT_LT((feet[1].offset - Vec3(0, 0, -0.005)).norm(), 1e-12);  // tip at the end cap z = -0.02
+  EXPECT_DOUBLE_EQ(feet[1].point.radius, 0.015);
+  EXPECT_LT((feet[1].point.offset - Vec3(0, 0, -0.005)).norm(), 1e-12);  // tip at the end cap z = -0.02
   EXPECT_EQ(feet[2].source, "cylinder side");
-  EXPECT_DOUBLE_EQ(feet[2].radius, 0.03);
-  EXPECT_LT(feet[2].offset.norm(), 1e-12);
+  EXPECT_DOUBLE_EQ(feet[2].point.radius, 0.03);
+  EXPECT_LT(feet[2].point.offset.norm(), 1e-12);
 }
 
 TEST(Feet, SubtreesAboveTheTrunkAndSensorLeavesAreNotLegs) {
