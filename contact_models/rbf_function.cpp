@@ -19,19 +19,6 @@ namespace nmdp {
 
 namespace {
 
-struct KernelName {
-  RbfKernel kernel;
-  const char* name;
-};
-constexpr KernelName kKernelNames[] = {
-    {RbfKernel::ThinPlate, "thin_plate"},
-    {RbfKernel::Gaussian, "gaussian"},
-    {RbfKernel::Multiquadric, "multiquadric"},
-    {RbfKernel::InverseMultiquadric, "inverse_multiquadric"},
-    {RbfKernel::Cubic, "cubic"},
-    {RbfKernel::Linear, "linear"},
-};
-
 constexpr int kFormatVersion = 1;
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
 
@@ -86,26 +73,16 @@ void product(const PlanarRows& coef, const Eigen::MatrixXd& basis, Eigen::Index 
 
 }  // namespace
 
-const char* rbfKernelName(RbfKernel kernel) {
-  for (const KernelName& k : kKernelNames)
-    if (k.kernel == kernel) return k.name;
-  return "?";
-}
+const char* rbfKernelName(RbfKernel kernel) { return nameOf(kRbfKernels, kernel); }
 
 bool parseRbfKernel(const std::string& name, RbfKernel* kernel) {
-  for (const KernelName& k : kKernelNames) {
-    if (name == k.name) {
-      *kernel = k.kernel;
-      return true;
-    }
-  }
-  return false;
+  const auto found = enumFromName(kRbfKernels, name);
+  if (found) *kernel = *found;
+  return found.has_value();
 }
 
 std::string rbfKernelNames() {
-  std::string out;
-  for (const KernelName& k : kKernelNames) out += (out.empty() ? "" : ", ") + std::string(k.name);
-  return out;
+  return join(namesOf(kRbfKernels));
 }
 
 void rbfKernel(RbfKernel kernel, double epsilon, double r2, double* kappa, double* g) {

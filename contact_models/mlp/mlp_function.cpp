@@ -50,23 +50,12 @@ class DualLevel {
 
 // ----- activations and parameters ----------------------------------------------------------------
 
-const char* mlpActivationName(MlpActivation activation) {
-  switch (activation) {
-    case MlpActivation::Tanh: return "tanh";
-    case MlpActivation::Softplus: return "softplus";
-    case MlpActivation::Silu: return "silu";
-  }
-  return "?";
-}
+const char* mlpActivationName(MlpActivation activation) { return nameOf(kMlpActivations, activation); }
 
 bool parseMlpActivation(const std::string& name, MlpActivation* activation) {
-  for (MlpActivation a : {MlpActivation::Tanh, MlpActivation::Softplus, MlpActivation::Silu}) {
-    if (name == mlpActivationName(a)) {
-      *activation = a;
-      return true;
-    }
-  }
-  return false;
+  const auto found = enumFromName(kMlpActivations, name);
+  if (found) *activation = *found;
+  return found.has_value();
 }
 
 std::string mlpActivationProblem(const std::string& name) {
