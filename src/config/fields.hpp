@@ -131,12 +131,12 @@ class Fields {
     const std::vector<std::string> names = namesOf(table);
     Field<S> f = make(name, "string", join(names, " | "), "", doc);
     f.value = [member, &table](const S& s) { return nlohmann::json(nameOf(table, get(s, member))); };
-    f.read = [name, member, &table, what, names, expected](const nlohmann::json& object, S& s, const KeyPath& w) {
-      const std::string given = read::string(object, name, nameOf(table, get(s, member)), w);
-      const auto found = enumFromName(table, given);
-      if (!found && !expected.empty()) (w / name).fail(expected + ", got \"" + given + "\"");
-      if (!found) (w / name).fail("unknown " + what + " '" + given + "'" + suggestion(given, names) + "; valid: " + join(names));
-      ref(s, member) = *found;
+    f.read = [name, member, &table, what, expected](const nlohmann::json& object, S& s, const KeyPath& w) {
+      if (!expected.empty()) {
+        const std::string given = read::string(object, name, nameOf(table, get(s, member)), w);
+        if (!enumFromName(table, given)) (w / name).fail(expected + ", got \"" + given + "\"");
+      }
+      ref(s, member) = read::named(object, name, get(s, member), table, what, w);
     };
     list.push_back(std::move(f));
     return *this;

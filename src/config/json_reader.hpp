@@ -10,6 +10,9 @@
 #include <string>
 #include <vector>
 
+#include "common/named_enum.hpp"
+#include "common/text.hpp"
+
 namespace nmdp {
 
 // A place in a configuration: the file (or other source) and the key path ("integrator.dt").
@@ -74,6 +77,20 @@ Eigen::Vector3d vec3(const nlohmann::json& object, const std::string& key, const
 // {name: number} with every number in [lo, hi].
 std::map<std::string, double> namedValues(const nlohmann::json& v, const KeyPath& w, Bound lo = kNoLow,
                                           Bound hi = kNoHigh);
+
+// A name from an EnumName table (common/named_enum.hpp); "unknown <what> 'x' (did you mean ...);
+// valid: a, b" otherwise.
+template <class E, std::size_t N>
+E named(const nlohmann::json& object, const std::string& key, E fallback, const EnumName<E> (&table)[N],
+        const std::string& what, const KeyPath& w) {
+  const std::string given = string(object, key, nameOf(table, fallback), w);
+  const std::optional<E> found = enumFromName(table, given);
+  if (!found) {
+    const std::vector<std::string> names = namesOf(table);
+    (w / key).fail("unknown " + what + " '" + given + "'" + suggestion(given, names) + "; valid: " + join(names));
+  }
+  return *found;
+}
 
 }  // namespace read
 }  // namespace nmdp

@@ -32,7 +32,10 @@ std::string schemaText(const nlohmann::ordered_json& sections) {
     for (const nlohmann::ordered_json& row : it.value()) {
       os << "  " << row.at("key").get<std::string>() << ": " << row.at("type").get<std::string>();
       if (row.contains("default")) os << " = " << row.at("default").dump();
-      if (row.contains("range")) os << "  in " << row.at("range").get<std::string>();
+      if (row.contains("range")) {
+        const std::string range = row.at("range");
+        os << (range.find(" | ") != std::string::npos ? "  one of " : "  in ") << range;
+      }
       if (row.contains("unit")) os << "  [" << row.at("unit").get<std::string>() << "]";
       os << "\n      " << row.at("doc").get<std::string>() << "\n";
     }

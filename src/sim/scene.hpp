@@ -31,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "common/named_enum.hpp"
 #include "control/gait.hpp"
 #include "control/pd_target_source.hpp"
 #include "control/stable_pd.hpp"
@@ -60,6 +61,10 @@ struct GainSpec {
 };
 
 enum class SceneGaitType { Stand, Trot, Jump, Keyframes };
+inline constexpr EnumName<SceneGaitType> kSceneGaitTypes[] = {{SceneGaitType::Stand, "stand"},
+                                                               {SceneGaitType::Trot, "trot"},
+                                                               {SceneGaitType::Jump, "jump"},
+                                                               {SceneGaitType::Keyframes, "keyframes"}};
 const char* sceneGaitTypeName(SceneGaitType type);  // "stand", "trot", "jump", "keyframes"
 
 struct SceneConfig {

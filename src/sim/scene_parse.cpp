@@ -98,10 +98,8 @@ std::string pathValue(const json& obj, const std::string& key, const Where& w, c
   return resolved;
 }
 
-const std::vector<std::string> kGaitTypes = {"stand", "trot", "jump", "keyframes"};
-
 const std::vector<std::string>& gaitKeys(SceneGaitType type) {
-  return sceneSectionKeys("controller.gait:" + kGaitTypes[static_cast<int>(type)]);
+  return sceneSectionKeys(std::string("controller.gait:") + sceneGaitTypeName(type));
 }
 
 // ---- sections -----------------------------------------------------------------------------------
@@ -125,11 +123,8 @@ void parseRobot(const json& robot, const Where& w, SceneConfig& c, json& out) {
   c.urdf = pathValue(robot, "urdf", w, c.base_dir, PathKind::RegularFile, "URDF file");
   out["urdf"] = c.urdf;
 
-  const std::string base = read::string(robot, "base", "floating", w);
-  if (base == "floating") c.base = BaseType::Floating;
-  else if (base == "planar") c.base = BaseType::Planar;
-  else if (base == "fixed") c.base = BaseType::Fixed;
-  else (w / "base").fail("unknown base type '" + base + "'" + suggestion(base, {"floating", "planar", "fixed"}) + "; valid: floating, planar, fixed");
+  c.base = named(robot, "base", c.base, kBaseTypes, "base type", w);
+  const std::string base = nameOf(kBaseTypes, c.base);
   out["base"] = base;
 
   if (robot.contains("locked_joints"))
@@ -272,10 +267,7 @@ void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) 
 void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
   checkObject(in, w);
   const std::string type = read::string(in, "type", "stand", w);
-  const auto found = std::find(kGaitTypes.begin(), kGaitTypes.end(), type);
-  if (found == kGaitTypes.end())
-    (w / "type").fail("unknown gait type '" + type + "'" + suggestion(type, kGaitTypes) + "; valid: " + join(kGaitTypes));
-  c.gait_type = static_cast<SceneGaitType>(found - kGaitTypes.begin());
+  c.gait_type = named(in, "type", SceneGaitType::Stand, kSceneGaitTypes, "gait type", w);
   const std::vector<std::string>& valid = gaitKeys(c.gait_type);
   std::vector<std::string> all;
   for (SceneGaitType t : {SceneGaitType::Stand, SceneGaitType::Trot, SceneGaitType::Jump, SceneGaitType::Keyframes})
@@ -358,7 +350,7 @@ void parseController(const json& in, const Where& w, SceneConfig& c, json& out) 
 
 }  // namespace
 
-const char* sceneGaitTypeName(SceneGaitType type) { return kGaitTypes[static_cast<int>(type)].c_str(); }
+const char* sceneGaitTypeName(SceneGaitType type) { return nameOf(kSceneGaitTypes, type); }
 
 
 SceneConfig parseScene(const json& scene, const std::string& path) {
