@@ -30,11 +30,23 @@ Field<RbfFitSettings> scalingField() {
   return f;
 }
 
+Field<RbfFitSettings> kernelField() {
+  Field<RbfFitSettings> f = Fields<RbfFitSettings>::make("kernel", "string", join(namesOf(kRbfKernels), " | "), "",
+                                                         "the radial basis function (contact_models/rbf_function.hpp)");
+  f.value = [](const RbfFitSettings& s) { return json(nameOf(kRbfKernels, s.spec.kernel)); };
+  f.read = [](const json& object, RbfFitSettings& s, const KeyPath& w) {
+    const std::string kernel = read::string(object, "kernel", nameOf(kRbfKernels, s.spec.kernel), w);
+    const auto found = enumFromName(kRbfKernels, kernel);
+    if (!found) (w / "kernel").fail("unknown kernel \"" + kernel + "\"; valid kernels: " + rbfKernelNames());
+    s.spec.kernel = *found;
+  };
+  return f;
+}
+
 Fields<RbfFitSettings> declareRbfFields() {
   using S = RbfFitSettings;
   Fields<S> f;
-  f.choice("kernel", [](S& s) -> auto& { return s.spec.kernel; }, kRbfKernels, "kernel",
-           "the radial basis function (contact_models/rbf_function.hpp)")
+  f.custom(kernelField())
       .number("epsilon", [](S& s) -> auto& { return s.spec.epsilon; }, above(0), kNoHigh, "",
               "shape parameter of gaussian and the multiquadrics")
       .custom(scalingField())
