@@ -21,15 +21,6 @@ namespace nmdp {
 
 namespace {
 
-constexpr EnumName<RbfKernel> kKernelNames[] = {
-    {RbfKernel::ThinPlate, "thin_plate"},
-    {RbfKernel::Gaussian, "gaussian"},
-    {RbfKernel::Multiquadric, "multiquadric"},
-    {RbfKernel::InverseMultiquadric, "inverse_multiquadric"},
-    {RbfKernel::Cubic, "cubic"},
-    {RbfKernel::Linear, "linear"},
-};
-
 constexpr int kFormatVersion = 1;
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
 
@@ -84,11 +75,11 @@ void product(const PlanarRows& coef, const Eigen::MatrixXd& basis, Eigen::Index 
 
 }  // namespace
 
-const char* rbfKernelName(RbfKernel kernel) { return nameOf(kKernelNames, kernel); }
+const char* rbfKernelName(RbfKernel kernel) { return nameOf(kRbfKernels, kernel); }
 
-bool parseRbfKernel(const std::string& name, RbfKernel* kernel) { return assignIfNamed(kKernelNames, name, kernel); }
+bool parseRbfKernel(const std::string& name, RbfKernel* kernel) { return assignIfNamed(kRbfKernels, name, kernel); }
 
-std::string rbfKernelNames() { return join(namesOf(kKernelNames), ", "); }
+std::string rbfKernelNames() { return join(namesOf(kRbfKernels)); }
 
 void rbfKernel(RbfKernel kernel, double epsilon, double r2, double* kappa, double* g) {
   switch (kernel) {

@@ -56,6 +56,7 @@
 #include <Eigen/Dense>
 #include <string>
 
+#include "common/named_enum.hpp"
 #include "contact_models/planar_wrench_model.hpp"
 
 namespace nmdp {
@@ -65,6 +66,10 @@ class File;
 }
 
 enum class RbfKernel { ThinPlate, Gaussian, Multiquadric, InverseMultiquadric, Cubic, Linear };
+inline constexpr EnumName<RbfKernel> kRbfKernels[] = {
+    {RbfKernel::ThinPlate, "thin_plate"}, {RbfKernel::Gaussian, "gaussian"},
+    {RbfKernel::Multiquadric, "multiquadric"}, {RbfKernel::InverseMultiquadric, "inverse_multiquadric"},
+    {RbfKernel::Cubic, "cubic"}, {RbfKernel::Linear, "linear"}};
 
 const char* rbfKernelName(RbfKernel kernel);  // "thin_plate", "gaussian", ...
 // Parses a kernel name; false when unknown.

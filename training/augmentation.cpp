@@ -33,8 +33,6 @@ constexpr EnumName<PointOrigin> kPointOrigins[] = {
 
 const char* pointOriginName(PointOrigin origin) { return nameOf(kPointOrigins, origin); }
 
-const char* mirrorVerticesName(MirrorVertices m) { return m == MirrorVertices::Same ? "same" : "reversed"; }
-
 PlanarPoints groupPlanarSamples(const ForceDataset& data, const std::string& where) {
   validateForceDataset(data, where);
   if (data.features.cols() != 2 || data.feature_names != std::vector<std::string>{"phi", "beta"})

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "common/named_enum.hpp"
 #include "training/force_dataset.hpp"
 
 namespace nmdp {
@@ -41,7 +42,9 @@ struct PlanarPoints {
 PlanarPoints groupPlanarSamples(const ForceDataset& data, const std::string& where);
 
 enum class MirrorVertices { Same, Reversed };
-const char* mirrorVerticesName(MirrorVertices m);  // "same", "reversed"
+inline constexpr EnumName<MirrorVertices> kMirrorVertices[] = {{MirrorVertices::Same, "same"},
+                                                               {MirrorVertices::Reversed, "reversed"}};
+inline const char* mirrorVerticesName(MirrorVertices m) { return nameOf(kMirrorVertices, m); }
 
 struct AugmentationSettings {
   double scale = 1.0;  // finite, non-zero

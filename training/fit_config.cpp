@@ -18,25 +18,6 @@ namespace {
   throw InputError(ctx.where + (key.empty() ? "" : "." + key) + ": " + what);
 }
 
-// The activation names of contact_models/mlp/mlp_function.hpp, repeated here: that file is in the
-// libtorch library and this one in the core (test_fit links the core only).
-const char* activationName(MlpActivation a) {
-  switch (a) {
-    case MlpActivation::Tanh: return "tanh";
-    case MlpActivation::Softplus: return "softplus";
-    case MlpActivation::Silu: return "silu";
-  }
-  return "?";
-}
-bool parseActivation(const std::string& name, MlpActivation* a) {
-  for (MlpActivation x : {MlpActivation::Tanh, MlpActivation::Softplus, MlpActivation::Silu})
-    if (name == activationName(x)) {
-      *a = x;
-      return true;
-    }
-  return false;
-}
-
 // "data": the setting is decided from the data (resolveFitConfig), as when the key is left out.
 bool fromData(const nlohmann::json& section, const std::string& key) {
   return !section.contains(key) || (section.at(key).is_string() && section.at(key) == "data");
@@ -53,26 +34,24 @@ const nlohmann::json& section(const nlohmann::json& config, const std::string& k
 }  // namespace
 
 FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx) {
-  requireKnownKeys(config, {"augmentation", "rbf", "mlp", "geometry"}, ctx);
+  requireKnownKeys(config, keysOf(fitSectionKeys("")), ctx);
   FitConfig out;
 
   const ConfigContext actx = child(ctx, "augmentation");
   const nlohmann::json& a = section(config, "augmentation", ctx);
-  requireKnownKeys(a, {"scale", "mirror", "mirror_vertices", "above_surface"}, actx);
+  requireKnownKeys(a, keysOf(fitSectionKeys("augmentation")), actx);
   AugmentationSettings& aug = out.augmentation;
   aug.scale = readNumber(a, "scale", 1.0, actx);
   if (aug.scale == 0.0) fail(actx, "scale", "must be non-zero");
   if (!fromData(a, "mirror")) aug.mirror = readBool(a, "mirror", false, actx);
-  const std::string vertices = readString(a, "mirror_vertices", "same", actx);
-  if (vertices == "same")
-    aug.mirror_vertices = MirrorVertices::Same;
-  else if (vertices == "reversed")
-    aug.mirror_vertices = MirrorVertices::Reversed;
+  const std::string vertices = readString(a, "mirror_vertices", mirrorVerticesName(aug.mirror_vertices), actx);
+  if (const auto found = enumFromName(kMirrorVertices, vertices))
+    aug.mirror_vertices = *found;
   else
     fail(actx, "mirror_vertices", "expected \"same\" or \"reversed\", got \"" + vertices + "\"");
   const ConfigContext sctx = child(actx, "above_surface");
   const nlohmann::json& above = section(a, "above_surface", actx);
-  requireKnownKeys(above, {"heights", "angles"}, sctx);
+  requireKnownKeys(above, keysOf(fitSectionKeys("augmentation.above_surface")), sctx);
   if (!fromData(above, "heights")) aug.above_heights = readNumbers(above, "heights", {}, sctx);
   if (aug.above_heights && aug.above_heights->size() > 1000) fail(sctx, "heights", "more than 1000 heights");
   for (double h : aug.above_heights.value_or(std::vector<double>{}))
@@ -85,110 +64,14 @@ FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx)
     if (aug.above_angles.size() > 1000) fail(sctx, "angles", "more than 1000 angles");
   }
 
-  const ConfigContext rctx = child(ctx, "rbf");
   const nlohmann::json& r = section(config, "rbf", ctx);
-  requireKnownKeys(r, {"kernel", "epsilon", "scaling", "ridge", "polynomial_tail"}, rctx);
-  RbfFitSettings& rbf = out.rbf;
-  const std::string kernel = readString(r, "kernel", rbfKernelName(rbf.spec.kernel), rctx);
-  if (!parseRbfKernel(kernel, &rbf.spec.kernel))
-    fail(rctx, "kernel", "unknown kernel \"" + kernel + "\"; valid kernels: " + rbfKernelNames());
-  rbf.spec.epsilon = readNumber(r, "epsilon", rbf.spec.epsilon, rctx);
-  if (!(rbf.spec.epsilon > 0.0)) fail(rctx, "epsilon", "must be > 0");
-  const std::vector<double> scaling = readNumbers(r, "scaling", {rbf.spec.scaling[0], rbf.spec.scaling[1]}, rctx);
-  if (scaling.size() != 2 || !(scaling[0] > 0.0) || !(scaling[1] > 0.0))
-    fail(rctx, "scaling", "expected two positive numbers [s_phi, s_beta], got " + jsonForMessage(r.at("scaling")));
-  rbf.spec.scaling = Eigen::Vector2d(scaling[0], scaling[1]);
-  rbf.ridge = readNumber(r, "ridge", 0.0, rctx, 0.0);
-  rbf.polynomial = readBool(r, "polynomial_tail", false, rctx);
-
-  const ConfigContext mctx = child(ctx, "mlp");
+  rbfFitFields().readInto(r, out.rbf, KeyPath{ctx.where + ".rbf", "", "."});
   const nlohmann::json& m = section(config, "mlp", ctx);
-  requireKnownKeys(m,
-                   {"hidden_layers", "width", "activation", "max_epochs", "learning_rate", "final_learning_rate",
-                    "batch_size", "validation_fraction", "patience", "seed", "weight_decay", "loss", "relative_floor",
-                    "threads", "teacher_grid", "output_envelope", "envelope_width", "teacher_refinement", "lbfgs_iterations", "lbfgs_history", "zero_anchors", "teacher_depth_power"},
-                   mctx);
-  MlpFitSettings& mlp = out.mlp;
-  mlp.hidden_layers = readInteger(m, "hidden_layers", mlp.hidden_layers, mctx, 0, 100);
-  mlp.width = readInteger(m, "width", mlp.width, mctx, 1, 100000);
-  // The network's weights, for up to 256 vertices: as many as a contact-model file may hold (1e7).
-  const double weights = static_cast<double>(mlp.hidden_layers > 0 ? mlp.hidden_layers - 1 : 0) * mlp.width * mlp.width +
-                         static_cast<double>(mlp.width) * (3.0 * limits::kMaxVertices + 3.0);
-  if (weights > 1e7)
-    fail(mctx, "width", "a network of " + std::to_string(mlp.hidden_layers) + " hidden layers of " + std::to_string(mlp.width) +
-                            " units has more than the 1e7 weights a contact-model MLP may have");
-  const std::string activation = readString(m, "activation", activationName(mlp.activation), mctx);
-  if (!parseActivation(activation, &mlp.activation)) {
-    std::string lower = activation;
-    std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-    if (lower.find("relu") != std::string::npos)
-      fail(mctx, "activation", "\"" + activation + "\" is not allowed: ReLU has a kink at 0 and the solver needs a "
-           "contact model that is at least C1; use tanh, softplus or silu");
-    fail(mctx, "activation", "unknown activation \"" + activation + "\"; valid activations: tanh, softplus, silu");
-  }
-  if (m.contains("max_epochs") && m.at("max_epochs").is_number() && m.at("max_epochs").get<double>() < 1)
-    fail(mctx, "max_epochs", "must be at least 1 (the number of passes over the training points), got " +
-                                 jsonForMessage(m.at("max_epochs")));
-  mlp.max_epochs = readInteger(m, "max_epochs", mlp.max_epochs, mctx, 1, 100000000);
-  mlp.learning_rate = readNumber(m, "learning_rate", mlp.learning_rate, mctx);
-  if (!(mlp.learning_rate > 0.0)) fail(mctx, "learning_rate", "must be > 0");
-  mlp.final_learning_rate = readNumber(m, "final_learning_rate", mlp.final_learning_rate, mctx);
-  if (!(mlp.final_learning_rate > 0.0)) fail(mctx, "final_learning_rate", "must be > 0");
-  mlp.batch_size = readInteger(m, "batch_size", mlp.batch_size, mctx, 0, 1000000000);
-  mlp.validation_fraction = readNumber(m, "validation_fraction", mlp.validation_fraction, mctx);
-  if (!(mlp.validation_fraction >= 0.0 && mlp.validation_fraction < 1.0))
-    fail(mctx, "validation_fraction",
-         "must be in [0, 1) (the share of the points held out for early stopping), got " +
-             jsonForMessage(m.at("validation_fraction")));
-  mlp.patience = readInteger(m, "patience", mlp.patience, mctx, 0, 100000000);
-  const double seed = readNumber(m, "seed", mlp.seed, mctx);
-  if (!(seed >= 0.0 && seed < 4294967296.0) || seed != std::floor(seed))
-    fail(mctx, "seed", "must be an integer in [0, 4294967295], got " + jsonForMessage(m.at("seed")));
-  mlp.seed = static_cast<std::uint32_t>(seed);
-  mlp.weight_decay = readNumber(m, "weight_decay", mlp.weight_decay, mctx, 0.0);
-  const std::string loss = readString(m, "loss", mlpLossName(mlp.loss), mctx);
-  if (loss == "relative")
-    mlp.loss = MlpLoss::Relative;
-  else if (loss == "mse")
-    mlp.loss = MlpLoss::Mse;
-  else
-    fail(mctx, "loss", "expected \"relative\" or \"mse\", got \"" + loss + "\"");
-  mlp.relative_floor = readNumber(m, "relative_floor", mlp.relative_floor, mctx);
-  if (!(mlp.relative_floor > 0.0)) fail(mctx, "relative_floor", "must be > 0");
-  mlp.threads = readInteger(m, "threads", mlp.threads, mctx, 1, 1024);
-  const std::vector<double> grid = readNumbers(m, "teacher_grid", {0.0, 0.0}, mctx);
-  if (grid.size() != 2 || grid[0] < 0 || grid[1] < 0 || grid[0] != std::floor(grid[0]) ||
-      grid[1] != std::floor(grid[1]) || grid[0] * grid[1] > 1e6 || ((grid[0] == 0) != (grid[1] == 0)))
-    fail(mctx, "teacher_grid",
-         "expected [n_phi, n_beta]: two integers >= 1 with n_phi n_beta <= 1e6 (the RBF teacher's grid), or [0, 0] for none, got " +
-             jsonForMessage(m.at("teacher_grid")));
-  mlp.teacher_grid = {static_cast<int>(grid[0]), static_cast<int>(grid[1])};
-  mlp.teacher_refinement = readNumbers(m, "teacher_refinement", mlp.teacher_refinement, mctx);
-  if (mlp.teacher_refinement.size() > 100) fail(mctx, "teacher_refinement", "more than 100 angle offsets");
-  for (double offset : mlp.teacher_refinement)
-    if (!(offset > 0.0 && offset < 10.0))
-      fail(mctx, "teacher_refinement", "expected angle offsets in (0, 10) rad, got " + jsonForMessage(m.at("teacher_refinement")));
-  const std::string envelope = readString(m, "output_envelope", mlpOutputEnvelopeName(mlp.output_envelope), mctx);
-  if (!parseMlpOutputEnvelope(envelope, &mlp.output_envelope))
-    fail(mctx, "output_envelope",
-         "expected \"none\" (W = N), \"depth\" (W = (-phi) N, zero at the surface) or \"soft_depth\" "
-         "(W = w softplus(-phi/w) N), got \"" + envelope + "\"");
-  mlp.envelope_width = readNumber(m, "envelope_width", mlp.envelope_width, mctx);
-  if (!(mlp.envelope_width > 0.0 && mlp.envelope_width <= 10.0))
-    fail(mctx, "envelope_width", "must be in (0, 10] m (the soft_depth envelope's width w)");
-
-  mlp.lbfgs_iterations = readInteger(m, "lbfgs_iterations", mlp.lbfgs_iterations, mctx, 0, 100000000);
-  mlp.lbfgs_history = readInteger(m, "lbfgs_history", mlp.lbfgs_history, mctx, 1, 10000);
-  mlp.zero_anchors = readBool(m, "zero_anchors", mlp.zero_anchors, mctx);
-  mlp.teacher_depth_power = readNumber(m, "teacher_depth_power", mlp.teacher_depth_power, mctx);
-  if (!(mlp.teacher_depth_power >= 1.0 && mlp.teacher_depth_power <= 100.0))
-    fail(mctx, "teacher_depth_power", "must be in [1, 100] (1: evenly spaced teacher rows; more: denser near the surface)");
-  if (mlp.zero_anchors && mlp.output_envelope == MlpOutputEnvelope::Depth)
-    fail(mctx, "zero_anchors", "cannot be combined with output_envelope \"depth\" (the envelope is zero at the surface already)");
+  readMlpFitSettings(m, KeyPath{ctx.where + ".mlp", "", "."}, out.mlp);
 
   const ConfigContext gctx = child(ctx, "geometry");
   const nlohmann::json& g = section(config, "geometry", ctx);
-  requireKnownKeys(g, {"torque_centre", "cutoff", "cutoff_width"}, gctx);
+  requireKnownKeys(g, keysOf(fitSectionKeys("geometry")), gctx);
   if (g.contains("torque_centre") && !(g.at("torque_centre").is_string() && g.at("torque_centre") == "data"))
     out.torque_centre = readNumber(g, "torque_centre", 0.0, gctx);
   if (!fromData(g, "cutoff")) out.cutoff = readNumber(g, "cutoff", 0.0, gctx);
@@ -216,41 +99,10 @@ nlohmann::ordered_json fitConfigJson(const FitConfig& c, double torque_centre, c
                          {"mirror_vertices", mirrorVerticesName(c.augmentation.mirror_vertices)},
                          {"above_surface", above}};
   if (model == "mlp") {
-    const MlpFitSettings& m = c.mlp;
-    out["mlp"] = {{"hidden_layers", m.hidden_layers},
-                  {"width", m.width},
-                  {"activation", activationName(m.activation)},
-                  {"max_epochs", m.max_epochs},
-                  {"learning_rate", m.learning_rate},
-                  {"final_learning_rate", m.final_learning_rate},
-                  {"batch_size", m.batch_size},
-                  {"validation_fraction", m.validation_fraction},
-                  {"patience", m.patience},
-                  {"seed", m.seed},
-                  {"weight_decay", m.weight_decay},
-                  {"loss", mlpLossName(m.loss)},
-                  {"relative_floor", m.relative_floor},
-                  {"threads", m.threads},
-                  {"teacher_grid", {m.teacher_grid[0], m.teacher_grid[1]}},
-                  {"output_envelope", mlpOutputEnvelopeName(m.output_envelope)},
-                  {"envelope_width", m.envelope_width},
-                  {"teacher_refinement", m.teacher_refinement},
-                  {"lbfgs_iterations", m.lbfgs_iterations},
-                  {"lbfgs_history", m.lbfgs_history},
-                  {"zero_anchors", m.zero_anchors},
-                  {"teacher_depth_power", m.teacher_depth_power}};
-    if (m.teacher_grid[0] > 0)
-      out["rbf"] = {{"kernel", rbfKernelName(c.rbf.spec.kernel)},
-                    {"epsilon", c.rbf.spec.epsilon},
-                    {"scaling", {c.rbf.spec.scaling[0], c.rbf.spec.scaling[1]}},
-                    {"ridge", c.rbf.ridge},
-                    {"polynomial_tail", c.rbf.polynomial}};
+    out["mlp"] = mlpFitFields().dump<nlohmann::ordered_json>(c.mlp);
+    if (c.mlp.teacher_grid[0] > 0) out["rbf"] = rbfFitFields().dump<nlohmann::ordered_json>(c.rbf);
   } else {
-    out["rbf"] = {{"kernel", rbfKernelName(c.rbf.spec.kernel)},
-                  {"epsilon", c.rbf.spec.epsilon},
-                  {"scaling", {c.rbf.spec.scaling[0], c.rbf.spec.scaling[1]}},
-                  {"ridge", c.rbf.ridge},
-                  {"polynomial_tail", c.rbf.polynomial}};
+    out["rbf"] = rbfFitFields().dump<nlohmann::ordered_json>(c.rbf);
   }
   out["geometry"] = {
       {"torque_centre", torque_centre}, {"cutoff", orData(c.cutoff)}, {"cutoff_width", orData(c.cutoff_width)}};

@@ -5,14 +5,16 @@
 #include <cstdint>
 #include <vector>
 
+#include "common/named_enum.hpp"
 #include "contact_models/mlp/mlp_function.hpp"
 
 namespace nmdp {
 
 enum class MlpLoss { Relative, Mse };
-inline const char* mlpLossName(MlpLoss loss) { return loss == MlpLoss::Mse ? "mse" : "relative"; }
+inline constexpr EnumName<MlpLoss> kMlpLosses[] = {{MlpLoss::Relative, "relative"}, {MlpLoss::Mse, "mse"}};
+inline const char* mlpLossName(MlpLoss loss) { return nameOf(kMlpLosses, loss); }
 
-// The "mlp" section of FIT.json (training/fit_config.hpp has the defaults and the keys).
+// The "mlp" section of FIT.json (its keys are declared in training/fit_config.cpp, mlpFitFields()).
 struct MlpFitSettings {
   int hidden_layers = 2;
   int width = 64;

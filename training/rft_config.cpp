@@ -2,12 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 
 #include "common/input_error.hpp"
 #include "common/json_text.hpp"
 #include "common/limits.hpp"
 #include "config/json_params.hpp"
+#include "config/json_reader.hpp"
+#include "config/schema.hpp"
 #include "common/text.hpp"
 
 namespace nmdp {
@@ -21,16 +24,9 @@ constexpr double kHalfPi = 1.57079632679489661923;
   throw InputError(where + ": " + key + ": " + what);
 }
 
-// `object` (at `where: path`) must be an object with keys from `valid` only.
-void checkKeys(const json& object, const std::string& where, const std::string& path,
-               const std::vector<std::string>& valid) {
-  if (!object.is_object()) throw InputError(where + (path.empty() ? "" : ": " + path) + ": expected a JSON object, got " + jsonForMessage(object));
-  for (auto it = object.begin(); it != object.end(); ++it) {
-    if (std::find(valid.begin(), valid.end(), it.key()) != valid.end()) continue;
-    const std::string near = closestMatch(it.key(), valid);
-    fail(where, (path.empty() ? "" : path + ".") + it.key(),
-         "unknown key" + (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; valid keys: " + join(valid));
-  }
+// `object` (at `where: path`) must be an object with the keys of that section only.
+void checkKeys(const json& object, const std::string& where, const std::string& path) {
+  nmdp::checkKeys(object, KeyPath{where, path}, keysOf(rftSectionKeys(path)));
 }
 
 const json& child(const json& object, const std::string& key) {
@@ -57,7 +53,7 @@ std::vector<double> readDistinct(const json& object, const std::string& key, con
 }
 
 RftMedium readMedium(const json& m, const std::string& where, ojson& resolved) {
-  checkKeys(m, where, "medium", {"zeta", "coefficients"});
+  checkKeys(m, where, "medium");
   const ConfigContext ctx{where + ": medium", ""};
   RftMedium medium;
   medium.zeta = readNumber(m, "zeta", medium.zeta, ctx, 1e-12, 1e6);
@@ -69,7 +65,7 @@ RftMedium readMedium(const json& m, const std::string& where, ojson& resolved) {
   for (const auto& f : fields) names.push_back(f.first);
   if (m.contains("coefficients")) {
     const json& k = m.at("coefficients");
-    checkKeys(k, where, "medium.coefficients", names);
+    nmdp::checkKeys(k, KeyPath{where, "medium.coefficients"}, names);
     const ConfigContext kctx{where + ": medium.coefficients", ""};
     for (const auto& f : fields) {
       if (!k.contains(f.first))
@@ -86,7 +82,7 @@ RftMedium readMedium(const json& m, const std::string& where, ojson& resolved) {
 
 RftFoot readFoot(const json& f, const std::string& where, ojson& resolved) {
   const ConfigContext ctx{where + ": foot", ""};
-  checkKeys(f, where, "foot", {"shape", "radius", "length", "width", "torque_centre", "elements"});
+  checkKeys(f, where, "foot");
   RftFoot foot;
   const std::string shape = readString(f, "shape", "disc", ctx);
   const std::vector<std::string> shapes = {"disc", "plate", "blade"};
@@ -131,13 +127,13 @@ std::vector<RftTwist> readDirections(const json& d, const std::string& where, oj
   const std::string type = readString(d, "type", "circle", ctx);
   resolved = {{"type", type}};
   if (type == "circle") {
-    checkKeys(d, where, path, {"type", "count"});
+    checkKeys(d, where, path + ":circle");
     const int count = readInteger(d, "count", 26, ctx, 1, limits::kMaxVertices);
     resolved["count"] = count;
     return rftCircleDirections(count);
   }
   if (type == "cube") {
-    checkKeys(d, where, path, {"type", "rotation_radius"});
+    checkKeys(d, where, path + ":cube");
     if (!d.contains("rotation_radius"))
       fail(where, path + ".rotation_radius", "required for type 'cube' (m: a point this far from the torque centre "
                                              "moves at unit speed under unit rotation)");
@@ -146,7 +142,7 @@ std::vector<RftTwist> readDirections(const json& d, const std::string& where, oj
     return rftCubeDirections(r);
   }
   if (type == "list") {
-    checkKeys(d, where, path, {"type", "twists"});
+    checkKeys(d, where, path + ":list");
     const std::string at = where + ": " + path + ".twists";
     if (!d.contains("twists") || !d.at("twists").is_array() || d.at("twists").empty())
       throw InputError(at + ": expected a non-empty list of [vx, vz, omega] (m/s, m/s, rad/s)");
@@ -176,16 +172,56 @@ std::vector<RftTwist> readDirections(const json& d, const std::string& where, oj
 }
 }  // namespace
 
+const std::vector<KeyDoc>& rftSectionKeys(const std::string& section) {
+  using ojson = nlohmann::ordered_json;
+  static const std::map<std::string, std::vector<KeyDoc>> sections = {
+      {"", {{"medium", "object", nullptr, "", "", "the granular medium"},
+            {"foot", "object", nullptr, "", "", "the intruder's shape and size"},
+            {"grid", "object", nullptr, "", "", "the depths, angles and directions sampled"}}},
+      {"medium", {{"zeta", "number", 1.0, "[1e-12, 1e6]", "N/cm^3", "the medium's scaling factor"},
+                  {"coefficients", "{A00, A10, B11, B01, Bm11, C11, C01, Cm11, D10}", nullptr, "", "",
+                   "all nine Fourier coefficients, or none for the generic values"}}},
+      {"foot", {{"shape", "string", "disc", "disc | plate | blade", "", "the foot's cross-section"},
+                {"radius", "number", 0.02, "[1e-6, 100]", "m", "disc only"},
+                {"length", "number", nullptr, "[1e-6, 100]", "m", "plate and blade only (required there)"},
+                {"width", "number", nullptr, "[1e-6, 100]", "m", "out-of-plane extent; disc default 2 radius, required otherwise"},
+                {"torque_centre", "number", 0.0, "[-100, 100]", "m", "up the leg from the foot point"},
+                {"elements", "integer", 400, "[1, 1000000]", "", "surface elements the foot is cut into"}}},
+      {"grid", {{"depths", "[number]", ojson::array({-0.01, -0.03, -0.05, -0.07, 0.0}), "[-100, 0]", "m",
+                 "foot depths, no repeats (default: the sand samples')"},
+                {"angles", "[number]", ojson::array({0.0, 0.3, 0.6, 0.9}), "[-pi/2, pi/2]", "rad", "foot angles, no repeats"},
+                {"directions", "object", ojson{{"type", "circle"}}, "", "", "the twists of the wrench space's vertices"}}},
+      {"grid.directions:circle", {{"type", "string", "circle", "circle | cube | list", "", "evenly spaced velocity directions"},
+                                  {"count", "integer", 26, "[1, 256]", "", "how many"}}},
+      {"grid.directions:cube", {{"type", "string", "cube", "", "", "the 26 directions of a cube's faces, edges and corners"},
+                                {"rotation_radius", "number", nullptr, "[1e-6, 100]", "m",
+                                 "a point this far from the torque centre moves at unit speed under unit rotation (required)"}}},
+      {"grid.directions:list", {{"type", "string", "list", "", "", "the twists given"},
+                                {"twists", "[[vx, vz, omega]]", nullptr, "", "m/s, m/s, rad/s", "non-zero twists (required)"}}},
+  };
+  static const std::vector<KeyDoc> none;
+  const auto it = sections.find(section);
+  return it == sections.end() ? none : it->second;
+}
+
+nlohmann::ordered_json rftConfigSchema() {
+  nlohmann::ordered_json out;
+  for (const char* section : {"", "medium", "foot", "grid", "grid.directions:circle", "grid.directions:cube",
+                              "grid.directions:list"})
+    out[section] = schemaRows(rftSectionKeys(section));
+  return out;
+}
+
 constexpr double kMaxStressEvaluations = 1e9;
 
 RftConfig readRftConfig(const json& config, const std::string& where) {
-  checkKeys(config, where, "", {"medium", "foot", "grid"});
+  checkKeys(config, where, "");
   RftConfig c;
   ojson medium, foot, grid = ojson::object(), directions;
   c.medium = readMedium(child(config, "medium"), where, medium);
   c.foot = readFoot(child(config, "foot"), where, foot);
   const json& g = child(config, "grid");
-  checkKeys(g, where, "grid", {"depths", "angles", "directions"});
+  checkKeys(g, where, "grid");
   const ConfigContext gctx{where + ": grid", ""};
   // The defaults are the points of the published sand samples (granular/README.md).
   c.grid.depths = readDistinct(g, "depths", {-0.01, -0.03, -0.05, -0.07, 0.0}, gctx, -100.0, 0.0,

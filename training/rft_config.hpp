@@ -1,24 +1,11 @@
-// The configuration of `nmdp gen-rft` (training/README.md): a JSON object
-//   {
-//     "medium": {"zeta": 1.0,                       // N/cm³, > 0
-//                "coefficients": {"A00": ..., ...}}  // all nine, or omitted for the generic values
-//     "foot":   {"shape": "disc" | "plate" | "blade",
-//                "radius": 0.02,                     // disc only, m (default 0.02)
-//                "length": ...,                      // plate and blade only, m (required)
-//                "width": ...,                       // m; disc default 2 radius, required otherwise
-//                "torque_centre": 0.0,               // m up the leg from the foot point
-//                "elements": 400},
-//     "grid":   {"depths": [...],                    // m, ≤ 0, no repeats (default the sand samples')
-//                "angles": [...],                    // rad, in [−π/2, π/2], no repeats
-//                "directions": {"type": "circle", "count": 26}
-//                            | {"type": "cube", "rotation_radius": R}
-//                            | {"type": "list", "twists": [[vx, vz, omega], ...]}}
-//   }
-// Every key is optional unless marked; unknown keys are rejected with the closest valid key.
+// The configuration of `nmdp gen-rft` (training/README.md): the medium, the foot and the grid of
+// depths, angles and directions. Every key is optional unless marked; unknown keys are rejected with
+// the closest valid key; `nmdp gen-rft --schema` prints every key with its default.
 #pragma once
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "config/schema.hpp"
 #include "training/rft.hpp"
 
 namespace nmdp {
@@ -29,6 +16,10 @@ struct RftConfig {
   RftGrid grid;
   nlohmann::ordered_json resolved;  // the configuration with every default filled in
 };
+
+// The keys of each section ("" for the top level, "grid.directions:circle" for one directions type).
+const std::vector<KeyDoc>& rftSectionKeys(const std::string& section);
+nlohmann::ordered_json rftConfigSchema();
 
 // `where` names the configuration in messages (the file name, or e.g. "defaults"). Throws
 // InputError "WHERE: foot.radius: ..." on the first bad, missing or unknown key.

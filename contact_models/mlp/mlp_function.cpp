@@ -15,6 +15,7 @@
 #include "common/limits.hpp"
 #include "common/named_enum.hpp"
 #include "common/text.hpp"
+#include "contact_models/mlp/mlp_names.hpp"
 
 namespace nmdp {
 
@@ -47,8 +48,6 @@ class DualLevel {
   uint64_t index_;
 };
 
-constexpr EnumName<MlpActivation> kActivations[] = {
-    {MlpActivation::Tanh, "tanh"}, {MlpActivation::Softplus, "softplus"}, {MlpActivation::Silu, "silu"}};
 constexpr EnumName<MlpJacobian> kJacobians[] = {{MlpJacobian::ForwardMode, "forward-mode"},
                                                 {MlpJacobian::DoubleBackward, "double-backward"},
                                                 {MlpJacobian::Tangents, "tangents"}};
@@ -57,10 +56,10 @@ constexpr EnumName<MlpJacobian> kJacobians[] = {{MlpJacobian::ForwardMode, "forw
 
 // ----- activations and parameters ----------------------------------------------------------------
 
-const char* mlpActivationName(MlpActivation activation) { return nameOf(kActivations, activation); }
+const char* mlpActivationName(MlpActivation activation) { return nameOf(kMlpActivations, activation); }
 
 bool parseMlpActivation(const std::string& name, MlpActivation* activation) {
-  return assignIfNamed(kActivations, name, activation);
+  return assignIfNamed(kMlpActivations, name, activation);
 }
 
 std::string mlpActivationProblem(const std::string& name) {

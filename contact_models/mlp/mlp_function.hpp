@@ -126,6 +126,7 @@
 #include <string>
 #include <vector>
 
+#include "contact_models/mlp/mlp_names.hpp"
 #include "contact_models/planar_wrench_model.hpp"
 
 namespace nmdp {
@@ -134,37 +135,19 @@ namespace h5 {
 class File;
 }
 
-enum class MlpActivation { Tanh, Softplus, Silu };
-
 const char* mlpActivationName(MlpActivation activation);  // "tanh", "softplus", "silu"
 // Parses an activation name; false when unknown (ReLU and its kin included: see mlpActivationProblem).
 bool parseMlpActivation(const std::string& name, MlpActivation* activation);
 // Why `name` is not an accepted activation, for messages ("" when it is accepted).
 std::string mlpActivationProblem(const std::string& name);
 
-// What multiplies the network's output N (see the function above).
-enum class MlpOutputEnvelope {
-  None,       // W = N
-  Depth,      // W = (−φ) ⊙ N: zero at the surface
-  SoftDepth,  // W = w softplus(−φ/w) ⊙ N: −φ below the surface, w log 2 at it, fading above it
-};
-// "none", "depth", "soft_depth". Inline (no libtorch): training/fit_config.cpp, in the core library,
-// parses them too.
-inline const char* mlpOutputEnvelopeName(MlpOutputEnvelope envelope) {
-  switch (envelope) {
-    case MlpOutputEnvelope::Depth: return "depth";
-    case MlpOutputEnvelope::SoftDepth: return "soft_depth";
-    default: return "none";
-  }
-}
-// false when `name` is none of "none", "depth", "soft_depth".
+// "none", "depth", "soft_depth" (kMlpOutputEnvelopes).
+inline const char* mlpOutputEnvelopeName(MlpOutputEnvelope envelope) { return nameOf(kMlpOutputEnvelopes, envelope); }
+// false when `name` is none of them.
 inline bool parseMlpOutputEnvelope(const std::string& name, MlpOutputEnvelope* envelope) {
-  for (MlpOutputEnvelope e : {MlpOutputEnvelope::None, MlpOutputEnvelope::Depth, MlpOutputEnvelope::SoftDepth})
-    if (name == mlpOutputEnvelopeName(e)) {
-      *envelope = e;
-      return true;
-    }
-  return false;
+  const auto found = enumFromName(kMlpOutputEnvelopes, name);
+  if (found) *envelope = *found;
+  return found.has_value();
 }
 // The envelope's factor m(φ) and dm/dφ (width w, m, for SoftDepth only). Inline: the trainer uses it
 // for its fixed per-row factors.

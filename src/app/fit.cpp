@@ -39,14 +39,15 @@ const char* const kFitHelp =
     "  --model rbf|mlp     the model to fit: an RBF interpolant or a libtorch MLP (training/mlp/mlp_fit.hpp)\n"
     "  --config FIT.json   augmentation, rbf (kernel, scaling, ridge, tail), mlp (layers, width,\n"
     "                      activation, epochs, learning rate, validation, seed, ...), geometry, as a\n"
-    "                      file or an inline JSON object (training/fit_config.hpp; default: the\n"
+    "                      file or an inline JSON object (every key: --schema; default: the\n"
     "                      published augmentation decided from the data: mirror when the data covers\n"
     "                      one side of beta = 0, zero-wrench points above the surface, the cut-off at\n"
     "                      the lowest zero point above the data's wrenches (the surface for the sand\n"
     "                      samples); thin-plate diag(5, 1); MLP 2-64-64-3K tanh, Adam, early stopping)\n"
     "  --out FILE.h5       the model file (or, with --import-csv, the dataset file) to write\n"
     "  --quiet             no report and no progress line\n"
-    "  --import-csv FOLDER convert a sand_samples-layout folder to a force dataset and stop\n";
+    "  --import-csv FOLDER convert a sand_samples-layout folder to a force dataset and stop\n"
+    "  --schema            print every FIT.json key with its type, default, range, unit and use, and stop\n";
 
 namespace {
 // The MLP training progress: one line redrawn in place with '\r' (at most 10 times a second),
@@ -159,6 +160,7 @@ ForceDataset loadData(const std::string& path) {
 }  // namespace
 
 int runFit(const Args& args) {
+  if (args.size() == 1 && args[0] == "--schema") return std::cout << schemaText(fitConfigSchema()), 0;
   std::string data, model, config, out, import_csv;
   bool quiet = false;
   for (size_t i = 0; i < args.size(); ++i) {

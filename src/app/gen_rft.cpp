@@ -22,13 +22,14 @@ const char* const kGenRftHelp =
     "are the vertices of the wrench space there, ready for nmdp fit.\n\n"
     "  --config RFT.json  medium (zeta in N/cm^3, coefficients), foot (disc, plate or blade; sizes in m;\n"
     "                     torque_centre; elements) and grid (depths in m, angles in rad, directions);\n"
-    "                     a file or an inline JSON object; every key is optional (see training/README.md).\n"
+    "                     a file or an inline JSON object; every key is optional (all of them: --schema).\n"
     "                     Without it: a disc of radius 0.02 m, zeta 1 N/cm^3, the sand samples' points,\n"
     "                     26 directions.\n"
     "  --out PATH         a folder: the CSV layout of granular/sand_samples (features.csv,\n"
     "                     wrench_samples.csv, scalars.txt) and rft_config.json, the complete\n"
     "                     configuration (pass it to --config to regenerate); a path ending in .h5: a\n"
-    "                     force dataset (training/force_dataset.hpp)\n";
+    "                     force dataset (training/force_dataset.hpp)\n"
+    "  --schema           print every RFT.json key with its type, default, range, unit and use, and stop\n";
 
 namespace {
 bool endsWith(const std::string& s, const std::string& tail) {
@@ -37,6 +38,7 @@ bool endsWith(const std::string& s, const std::string& tail) {
 }  // namespace
 
 int runGenRft(const Args& args) {
+  if (args.size() == 1 && args[0] == "--schema") return std::cout << schemaText(rftConfigSchema()), 0;
   nlohmann::json config = nlohmann::json::object();
   std::string where = "defaults", out;
   for (size_t i = 0; i < args.size(); ++i) {

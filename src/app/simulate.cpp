@@ -43,6 +43,7 @@ const char* const kSimulateHelp =
     "                        (the value is JSON if it parses as JSON, else a string)\n"
     "  --out FILE.h5         output file (default: the scene's output.file)\n"
     "  --quiet               no progress bar and no summary line\n"
+    "  --schema              print every scene key with its type, default, range, unit and use, and stop\n"
     "\n"
     "Exit status: 0 the run completed; 1 bad input, or no room for the file (nothing written);\n"
     "4 a step failed or diverged, the disk filled, or SIGINT/SIGTERM interrupted the run (the file\n"
@@ -147,6 +148,7 @@ std::string describeFailure(const StepStats& stats, long index, double t0, const
 }  // namespace
 
 int runSimulate(const Args& args) {
+  if (args.size() == 1 && args[0] == "--schema") return std::cout << sceneSchemaText(), 0;
   const Options opt = parseArgs(args);
   const StopSignals stop;
   // Before the output exists an interruption ends the command with nothing written.

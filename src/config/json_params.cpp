@@ -7,6 +7,7 @@
 #include "common/input_error.hpp"
 #include "common/json_text.hpp"
 #include "common/text.hpp"
+#include "config/json_reader.hpp"
 
 namespace nmdp {
 
@@ -51,22 +52,20 @@ std::string closestMatch(const std::string& word, const std::vector<std::string>
   return best;
 }
 
+namespace {
+// The reader's place for a key of a context: "where.key".
+KeyPath pathOf(const ConfigContext& ctx) { return KeyPath{ctx.where, "", "."}; }
+}  // namespace
+
 void requireKnownKeys(const nlohmann::json& object, const std::vector<std::string>& valid, const ConfigContext& ctx) {
-  if (!object.is_object()) fail(ctx, "", "expected a JSON object, got " + jsonForMessage(object));
-  for (auto it = object.begin(); it != object.end(); ++it) {
-    if (std::find(valid.begin(), valid.end(), it.key()) != valid.end()) continue;
-    const std::string near = closestMatch(it.key(), valid);
-    fail(ctx, it.key(), "unknown key" + (near.empty() ? "" : " (did you mean '" + near + "'?)") + "; valid keys: " + join(valid));
-  }
+  checkKeys(object, pathOf(ctx), valid);
 }
 
 double readNumber(const nlohmann::json& object, const std::string& key, double fallback, const ConfigContext& ctx,
                   double lo, double hi) {
   if (!object.contains(key)) return fallback;
   const nlohmann::json& v = object.at(key);
-  if (!v.is_number()) fail(ctx, key, "expected a number, got " + jsonForMessage(v));
-  const double x = v.get<double>();
-  if (!std::isfinite(x)) fail(ctx, key, "expected a finite number");
+  const double x = read::finiteNumber(v, pathOf(ctx) / key);
   if (x < lo || x > hi) {
     std::string range = "[" + (lo <= -1e299 ? std::string("-inf") : nlohmann::json(lo).dump()) + ", " +
                         (hi >= 1e299 ? std::string("inf") : nlohmann::json(hi).dump()) + "]";
@@ -79,27 +78,18 @@ int readInteger(const nlohmann::json& object, const std::string& key, int fallba
                 int hi) {
   if (!object.contains(key)) return fallback;
   const nlohmann::json& v = object.at(key);
-  if (!v.is_number_integer()) fail(ctx, key, "expected an integer, got " + jsonForMessage(v));
-  const long long x = v.is_number_unsigned() && v.get<unsigned long long>() > static_cast<unsigned long long>(hi)
-                          ? static_cast<long long>(hi) + 1
-                          : v.get<long long>();
+  const long long x = read::wholeNumber(v, pathOf(ctx) / key, hi);
   if (x < lo || x > hi) fail(ctx, key, "value " + jsonForMessage(v) + " is out of range [" + std::to_string(lo) + ", " + std::to_string(hi) + "]");
   return static_cast<int>(x);
 }
 
 std::string readString(const nlohmann::json& object, const std::string& key, const std::string& fallback,
                        const ConfigContext& ctx) {
-  if (!object.contains(key)) return fallback;
-  const nlohmann::json& v = object.at(key);
-  if (!v.is_string()) fail(ctx, key, "expected a string, got " + jsonForMessage(v));
-  return v.get<std::string>();
+  return read::string(object, key, fallback, pathOf(ctx));
 }
 
 bool readBool(const nlohmann::json& object, const std::string& key, bool fallback, const ConfigContext& ctx) {
-  if (!object.contains(key)) return fallback;
-  const nlohmann::json& v = object.at(key);
-  if (!v.is_boolean()) fail(ctx, key, "expected true or false, got " + jsonForMessage(v));
-  return v.get<bool>();
+  return read::boolean(object, key, fallback, pathOf(ctx));
 }
 
 std::vector<double> readNumbers(const nlohmann::json& object, const std::string& key,

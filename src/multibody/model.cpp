@@ -4,11 +4,6 @@
 
 namespace nmdp {
 
-namespace {
-constexpr EnumName<BaseType> kBaseTypes[] = {
-    {BaseType::Floating, "floating"}, {BaseType::Planar, "planar"}, {BaseType::Fixed, "fixed"}};
-}  // namespace
-
 const char* baseTypeName(BaseType b) { return nameOf(kBaseTypes, b); }
 
 int Model::linkIndex(const std::string& name) const {

@@ -10,11 +10,14 @@
 #include <string>
 #include <vector>
 
+#include "common/named_enum.hpp"
 #include "multibody/spatial.hpp"
 
 namespace nmdp {
 
 enum class BaseType { Floating, Planar, Fixed };
+inline constexpr EnumName<BaseType> kBaseTypes[] = {
+    {BaseType::Floating, "floating"}, {BaseType::Planar, "planar"}, {BaseType::Fixed, "fixed"}};
 enum class JointKind { Revolute, Prismatic };
 
 const char* baseTypeName(BaseType b);

@@ -2,56 +2,10 @@
 // messages a user can act on, and the builders the app needs. Pure data: no libtorch and no
 // contact-model registry (the app builds the contact model from SceneConfig::contact_model).
 //
-// Schema (every key optional but robot.urdf; unknown keys at any level are errors that suggest
-// the closest valid key; paths are relative to the scene file's folder and stored absolute):
-//
-//   "robot": {
-//     "urdf": path (required, must exist),
-//     "base": "floating" | "planar" | "fixed"                       (floating)
-//     "locked_joints": {joint: value},                              ({})
-//     "armature": number (every actuated joint) | {joint: value},   (0)
-//     "initial": {
-//       "height": trunk origin height, m        (the lowest contact sphere touches the terrain)
-//       "joints": {joint: value}                (the start pose; see "Start pose" below)
-//       "base_position": [x, y] | [x, y, z]     ([0, 0]; z overrides height)
-//       "base_rpy": [roll, pitch, yaw], rad     ([0, 0, 0]; ZYX, as /base/rpy of the output)
-//       "velocity": {"base_linear": [3], "base_angular": [3]}   (world frame, zero)
-//     }}
-//     A planar base (x, z, pitch) rejects nonzero y, roll, yaw, vy, ωx, ωz; a fixed base rejects
-//     every base key.
-//   "contacts": {
-//     "points": "auto" (detectFeet) | [{"link": name, "offset": [3] (0), "radius": r (0),
-//                                        "name": label (link name)}],
-//     "model": {"type": string, ...}   ({"type": "coulomb"}; "file" resolved to an absolute path
-//                                       and must exist, other "*_file" keys resolved; the rest is
-//                                       validated by the contact-model registry in the app)
-//   }
-//   "terrain": object for makeTerrain  ({"type": "plane"}; "file" resolved, must exist)
-//   "integrator": {"method": ne-pgm | ne-zopgm | pbd-pgm | pbd-zopgm | ne-mdp (ne-pgm),
-//                  "dt": (0, 1] (0.05), "adaptive" (true), "min_substep": (0, dt] (1e-5),
-//                  "kinetic_energy": "full-body" | "contact-points" | "full-body-pd" (full-body-pd), and the IntegratorOptions
-//                  fields of the same names: epsilon, tol_w, eta, eta_reject, eta_limited, beta_min,
-//                  beta_max, beta_initial, adapt_start_penalty, max_outer_iterations, projection_tolerance,
-//                  projection_max_iterations, projection_backtracking, warm_start_weights,
-//                  predict_first_iterate, and "zeroth_order_jacobian":
-//                  "finite-difference" | "dropped" (finite-difference), "accuracy": [0, 1] (0.01;
-//                  error control's relative tolerance, solver/local_error.hpp; 0: off)}
-//   "controller": {"kp": number | {joint: value}, "kd": same  (defaultPdGains at the start pose:
-//                  8 Hz, critically damped, about each joint's inertia and the load its leg
-//                  carries, control/default_gains.hpp; a number sets every actuated joint, an
-//                  object the joints named),
-//                  "tau_ff": {joint: value},
-//                  "gait": {"type": stand | trot | jump | keyframes (stand), then per type
-//                    stand:     height
-//                    trot:      height, stride_length, step_height, period (0.5), duty_factor (0.5),
-//                               swing_profile: "cosine" | "ground_speed" (cosine),
-//                               ground_speed_share (0.15, in [0, 1); ground_speed only),
-//                               start_ramp (0 s: none; control/start_ramp.hpp)
-//                    jump:      height, crouch_depth, push_off_height (> height), period (2), pause (0.4)
-//                    keyframes: height, file (required, must exist), cyclic (false), period}}
-//                  Unset sizes default to the robot (control/gait.hpp).
-//   "duration": s > 0 (10)
-//   "output": {"file": path ("<scene stem>.h5" in the current directory), "every": N ≥ 1 (1)}
+// The keys of a scene, with their types, defaults, ranges and units, are declared in
+// sim/scene_schema.cpp and config/integrator_options.cpp; `nmdp simulate --schema` prints them.
+// Every key is optional but robot.urdf; unknown keys at any level are errors that suggest the
+// closest valid key; paths are relative to the scene file's folder and stored absolute.
 //
 // Start pose: with a built-in gait (stand, trot, jump) on a quadruped, robot.initial.joints is the
 // gait's nominal pose (StandParameters::nominal_q, control/gait.hpp; joints not listed as in the
@@ -77,6 +31,7 @@
 #include <string>
 #include <vector>
 
+#include "common/named_enum.hpp"
 #include "control/gait.hpp"
 #include "control/pd_target_source.hpp"
 #include "control/stable_pd.hpp"
@@ -84,6 +39,7 @@
 #include "multibody/urdf_loader.hpp"
 #include "solver/contact_kinematics.hpp"
 #include "config/integrator_options.hpp"
+#include "sim/scene_schema.hpp"
 
 namespace nmdp {
 
@@ -105,6 +61,10 @@ struct GainSpec {
 };
 
 enum class SceneGaitType { Stand, Trot, Jump, Keyframes };
+inline constexpr EnumName<SceneGaitType> kSceneGaitTypes[] = {{SceneGaitType::Stand, "stand"},
+                                                               {SceneGaitType::Trot, "trot"},
+                                                               {SceneGaitType::Jump, "jump"},
+                                                               {SceneGaitType::Keyframes, "keyframes"}};
 const char* sceneGaitTypeName(SceneGaitType type);  // "stand", "trot", "jump", "keyframes"
 
 struct SceneConfig {

@@ -40,14 +40,14 @@ TEST_F(RoboSimianPaperTest, LegsArePlanarAndStandOnlyFromTheBentPose) {
   ASSERT_EQ(model.nq, 15);
   LegIkSolver ik(model, readJointLimits(model));
   for (const Leg& leg : legs.legs) {
-    ASSERT_EQ(leg.joints.size(), 3u) << leg.foot_link;
+    ASSERT_EQ(leg.joints.size(), 3u) << leg.foot.name;
     const Vec3 normal = ik.planeNormal(leg, nominal);
-    EXPECT_NEAR(normal.norm(), 1.0, 1e-12) << leg.foot_link;
-    EXPECT_GT(std::abs(normal.y()), 0.99) << leg.foot_link << ": the limbs move in the sagittal plane";
+    EXPECT_NEAR(normal.norm(), 1.0, 1e-12) << leg.foot.name;
+    EXPECT_GT(std::abs(normal.y()), 0.99) << leg.foot.name << ": the limbs move in the sagittal plane";
     // A planar 3R Jacobian has rank 2: conditioning is measured in its plane, so a bent limb is
     // regular and the level, straight limb of q = 0 singular.
-    EXPECT_GT(ik.conditioning(leg, nominal), 1e-2) << leg.foot_link;
-    EXPECT_LT(ik.conditioning(leg, Eigen::VectorXd::Zero(model.nq)), 1e-6) << leg.foot_link;
+    EXPECT_GT(ik.conditioning(leg, nominal), 1e-2) << leg.foot.name;
+    EXPECT_LT(ik.conditioning(leg, Eigen::VectorXd::Zero(model.nq)), 1e-6) << leg.foot.name;
   }
   try {
     standingPose(model, identifyQuadrupedLegs(model), {});
@@ -60,19 +60,19 @@ TEST_F(RoboSimianPaperTest, LegsArePlanarAndStandOnlyFromTheBentPose) {
   // height of the nominal feet, which is the standing height.
   const StandingPose pose = standingPose(model, legs, stand);
   double mean_height = 0;
-  for (const Leg& leg : legs.legs) mean_height += 0.25 * (leg.foot_radius - ik.footInTrunk(leg, nominal).z());
+  for (const Leg& leg : legs.legs) mean_height += 0.25 * (leg.foot.radius - ik.footInTrunk(leg, nominal).z());
   EXPECT_NEAR(pose.height, mean_height, 1e-12);
   EXPECT_GT(pose.height, 0.5) << "standing like a table, the trunk well above the ground";
   for (int id = 0; id < 4; ++id) {
     const Leg& leg = legs.legs[id];
     const Vec3 foot = ik.footInTrunk(leg, pose.q), nominal_foot = ik.footInTrunk(leg, nominal);
     const Vec3 normal = ik.planeNormal(leg, pose.q);
-    EXPECT_NEAR(foot.z() - leg.foot_radius, -pose.height, 1e-9) << leg.foot_link;
+    EXPECT_NEAR(foot.z() - leg.foot.radius, -pose.height, 1e-9) << leg.foot.name;
     // The nominal foot lowered to the ground, reached in the plane the limb moves in.
-    const Vec3 aimed(nominal_foot.x(), nominal_foot.y(), leg.foot_radius - pose.height);
-    EXPECT_LT(((foot - aimed) - normal * normal.dot(foot - aimed)).norm(), 1e-9) << leg.foot_link;
-    EXPECT_EQ(pose.feet[id], foot) << leg.foot_link;
-    EXPECT_GT(ik.conditioning(leg, pose.q), 1e-2) << leg.foot_link;
+    const Vec3 aimed(nominal_foot.x(), nominal_foot.y(), leg.foot.radius - pose.height);
+    EXPECT_LT(((foot - aimed) - normal * normal.dot(foot - aimed)).norm(), 1e-9) << leg.foot.name;
+    EXPECT_EQ(pose.feet[id], foot) << leg.foot.name;
+    EXPECT_GT(ik.conditioning(leg, pose.q), 1e-2) << leg.foot.name;
   }
   EXPECT_LT((pose.q.tail(12) - nominal.tail(12)).cwiseAbs().maxCoeff(), 1e-3) << "the nominal feet are level to µm";
 }
@@ -90,13 +90,13 @@ TEST_F(RoboSimianPaperTest, IkReachesInPlaneTargetsAndIgnoresTheOutOfPlaneCompon
       const Vec3 normal = ik.planeNormal(leg, nominal);
       Eigen::VectorXd q = nominal;
       const LegIkResult result = ik.solve(leg, target, q);
-      EXPECT_TRUE(result.converged) << leg.foot_link << " trial " << trial << ": " << result.error;
-      EXPECT_LT((ik.footInTrunk(leg, q) - target).norm(), 1e-9) << leg.foot_link;
+      EXPECT_TRUE(result.converged) << leg.foot.name << " trial " << trial << ": " << result.error;
+      EXPECT_LT((ik.footInTrunk(leg, q) - target).norm(), 1e-9) << leg.foot.name;
       // 5 cm off the plane: unreachable along the normal, reached in the plane.
       Eigen::VectorXd off = nominal;
       const LegIkResult off_result = ik.solve(leg, target + 0.05 * normal, off);
-      EXPECT_TRUE(off_result.converged) << leg.foot_link << ": " << off_result.error;
-      EXPECT_LT((ik.footInTrunk(leg, off) - target).norm(), 1e-9) << leg.foot_link;
+      EXPECT_TRUE(off_result.converged) << leg.foot.name << ": " << off_result.error;
+      EXPECT_LT((ik.footInTrunk(leg, off) - target).norm(), 1e-9) << leg.foot.name;
     }
   }
 }

@@ -356,6 +356,64 @@ TEST(Scene, ModelChecksSuggestClosestNames) {
 
 // ---- paths -------------------------------------------------------------------------------------------
 
+// ---- the schema ----------------------------------------------------------------------------------
+
+// Puts an unknown key into the section of `scene` the schema names (creating what it needs).
+void addUnknownKey(json& scene, const std::string& section) {
+  const json marker = 1;
+  if (section.empty()) scene["zz_unknown"] = marker;
+  else if (section == "robot") scene["robot"]["zz_unknown"] = marker;
+  else if (section == "robot.initial") scene["robot"]["initial"]["zz_unknown"] = marker;
+  else if (section == "robot.initial.velocity") scene["robot"]["initial"]["velocity"]["zz_unknown"] = marker;
+  else if (section == "contacts") scene["contacts"]["zz_unknown"] = marker;
+  else if (section == "contacts.points[]") scene["contacts"]["points"] = json::array({{{"link", "trunk"}, {"zz_unknown", 1}}});
+  else if (section == "integrator") scene["integrator"]["zz_unknown"] = marker;
+  else if (section == "controller") scene["controller"]["zz_unknown"] = marker;
+  else if (section == "output") scene["output"]["zz_unknown"] = marker;
+  else if (section.rfind("controller.gait:", 0) == 0)
+    scene["controller"]["gait"] = {{"type", section.substr(16)}, {"zz_unknown", 1}};
+  else ADD_FAILURE() << "no place for section " << section;
+}
+
+// The parser's key lists are the schema's: an unknown key in each section lists as valid exactly the
+// keys `nmdp simulate --schema` prints for it, in its order.
+TEST(SceneSchema, TheParserAcceptsExactlyTheSchemasKeys) {
+  SceneFixture f;
+  const nlohmann::ordered_json schema = sceneSchema();
+  ASSERT_EQ(schema.size(), sceneSections().size());
+  for (auto it = schema.begin(); it != schema.end(); ++it) {
+    std::vector<std::string> keys;
+    for (const auto& row : it.value()) keys.push_back(row.at("key"));
+    EXPECT_EQ(keys, sceneSectionKeys(it.key())) << it.key();
+    json scene = f.scene;
+    addUnknownKey(scene, it.key());
+    std::string listed;
+    for (const std::string& k : keys) listed += (listed.empty() ? "" : ", ") + k;
+    const std::string message = inputErrorMessage([&] { f.parse(scene); });
+    EXPECT_TRUE(containsAll(message, {"zz_unknown", ": " + listed})) << it.key() << ": " << message;
+    EXPECT_EQ(message.substr(message.size() - listed.size()), listed) << it.key() << ": " << message;
+  }
+  const std::string text = sceneSchemaText();
+  EXPECT_TRUE(containsAll(text, {"integrator\n", "  epsilon: number = 1e-06  in (0, 1]  [J]", "  method: string = \"ne-pgm\"",
+                                 "  dt: number = 0.05  in [1e-06, 1]  [s]", "controller.gait:trot\n"}))
+      << text;
+}
+
+// The resolved scene of a default scene parses back to the same scene, with and without the robot's
+// defaults filled in.
+TEST(SceneSchema, TheDumpOfADefaultSceneParsesBackToTheSameConfig) {
+  SceneFixture f;
+  const json minimal = {{"robot", {{"urdf", "robots/my_quadruped.urdf"}}}};
+  const SceneConfig c = f.parse(minimal);
+  const SceneConfig again = f.parse(c.resolved);
+  EXPECT_EQ(again.resolved, c.resolved);
+  EXPECT_EQ(again.dt, c.dt);
+  EXPECT_EQ(again.integrator.epsilon, IntegratorOptions().epsilon);
+  const Model model = f.model(c);
+  const json with_model = resolvedWithModel(c, model);
+  EXPECT_EQ(resolvedWithModel(f.parse(with_model), model), with_model);
+}
+
 TEST(Scene, PathsAreRelativeToTheSceneFile) {
   SceneFixture f;
   const std::string csv = f.dir.write("terrain/hills.csv", "0,0,0\n0,0.01,0\n0,0,0\n");
