@@ -25,20 +25,7 @@ void validateSystem(const System& system, const IntegratorOptions& options) {
                                 " needs the contact model's derivative, and " + system.contact_model->describe() +
                                 " has none; use " + methodName(twin) + " (zeroth order) instead");
   }
-  if (options.order != 1 && options.order != 2)
-    throw std::invalid_argument("integrator: order " + std::to_string(options.order) +
-                                " is not available; use 1 (backward Euler) or 2 (BDF2)");
-  if (options.order == 2 && options.method == Method::NeMdp)
-    throw std::invalid_argument("integrator: ne-mdp is first order only (order 1); order 2 needs an NMDP method "
-                                "(ne-pgm, ne-zopgm, pbd-pgm, pbd-zopgm)");
-  if (!(options.min_substep > 0) || !(options.eta > 1) || !(options.eta_reject > 1) || !(options.eta_limited > 1) ||
-      !(options.beta_min > 0) || !(options.beta_max >= options.beta_min) || !(options.tol_w > 0) ||
-      !(options.epsilon > 0) || options.max_outer_iterations < 1 || options.projection_max_iterations < 1 ||
-      !(options.projection_tolerance > 0) || !(options.energy_tolerance >= 0) ||
-      !(options.accuracy >= 0 && options.accuracy < std::numeric_limits<double>::infinity()))
-    throw std::invalid_argument("integrator: options out of range (need min_substep, tol_w, epsilon, beta_min, "
-                                "projection_tolerance > 0, energy_tolerance >= 0, accuracy finite and >= 0, eta, eta_reject, eta_limited > 1, "
-                                "beta_max >= beta_min, iteration limits >= 1)");
+  validateIntegratorOptions(options);
 }
 
 }  // namespace nmdp
