@@ -4,7 +4,7 @@
 // feed-forward and external forces supply) to its turnover, and the largest ratio of the excess to
 // what the default tolerance allows (ρ · turnover + ½ m (‖g‖h)²; above 1 the check fires), with the
 // step and time of each; and the first step past the default tolerance, if any. Scenes are built
-// as `nmdp simulate` builds them. Output: a markdown table on stdout.
+// by buildSimulation, as `nmdp simulate` builds them. Output: a markdown table on stdout.
 //
 // Usage: bench_energy_balance [--duration S] [--methods a,b] [--dts 0.05,0.02] [--set key=value ...]
 //                             SCENE.json...
@@ -22,9 +22,7 @@
 
 #include "contact_models/registry.hpp"
 #include "sim/scene.hpp"
-#include "multibody/urdf_loader.hpp"
-#include "solver/integrator.hpp"
-#include "terrain/terrain_factory.hpp"
+#include "sim/simulation.hpp"
 
 using namespace nmdp;
 
@@ -55,27 +53,13 @@ Outcome run(const std::string& scene_path, const std::string& method, double dt,
   applyOverride(scene, "integrator.method=" + method, scene_path);
   applyOverride(scene, "integrator.dt=" + std::to_string(dt), scene_path);
   SceneConfig config = parseScene(scene, scene_path);
-  const Model model = loadUrdf(config.urdf, urdfOptionsFor(config));
-  validateAgainstModel(config, model);
-  const auto contact_model = ContactModelRegistry::withBuiltins().build(config.contact_model, {scene_path, config.base_dir});
-  const auto terrain = makeTerrain(config.terrain, {scene_path, config.base_dir});
-  System system;
-  system.model = &model;
-  system.contacts = contactPointsFor(config, model);
-  system.contact_model = contact_model.get();
-  system.terrain = terrain.get();
-  system.gains = gainsFor(config, model);
-  const auto target = gaitFor(config, model);
-  IntegratorOptions options = config.integrator;
-  const double tolerance = options.energy_tolerance;
-  options.energy_tolerance = 1e300;  // the check measures but never fires (infinity would skip it)
-  StepWorkspace workspace(system, options);
-  SimulationState state =
-      initialState(system, options, initialConfiguration(config, model), initialVelocity(config, model), config.dt);
+  const double tolerance = config.integrator.energy_tolerance;
+  config.integrator.energy_tolerance = 1e300;  // the check measures but never fires (infinity would skip it)
+  Simulation sim = buildSimulation(config, ContactModelRegistry::withBuiltins());
   Outcome o;
   const long steps = std::lround(std::min(duration, config.duration) / config.dt);
   for (long i = 0; i < steps; ++i) {
-    const StepStats s = advance(system, options, *target, state, config.dt, workspace);
+    const StepStats s = sim.step();
     ++o.steps;
     if (!s.converged) {
       o.end = toString(s.status);
@@ -87,18 +71,18 @@ Outcome run(const std::string& scene_path, const std::string& method, double dt,
       o.worst_ratio = ratio;
       o.worst_excess = s.energy.excess;
       o.worst_step = static_cast<int>(i + 1);
-      o.worst_time = state.time;
+      o.worst_time = sim.time();
     }
     const double allowed = tolerance * s.energy.turnover + s.energy.free_fall;
     const double margin = s.energy.excess / allowed;
     if (margin > o.worst_margin || o.converged == 1) {
       o.worst_margin = margin;
       o.worst_margin_step = static_cast<int>(i + 1);
-      o.worst_margin_time = state.time;
+      o.worst_margin_time = sim.time();
     }
     if (!o.first_over && margin > 1.0) {
       o.first_over = static_cast<int>(i + 1);
-      o.first_over_time = state.time;
+      o.first_over_time = sim.time();
       o.first_over_ratio = ratio;
     }
   }

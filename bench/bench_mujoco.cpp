@@ -1,11 +1,12 @@
-// Issue 7, the MuJoCo half: A1 trotting on flat ground, side by side with MuJoCo, on the same robot,
-// the same PD targets and gains, the same initial state and the same friction coefficient.
+// A1 trotting on flat ground, side by side with MuJoCo, on the same robot, the same PD targets and
+// gains, the same initial state and the same friction coefficient.
 //
-// Ours: the scene models/scenes/a1_trot_flat.json built exactly as `nmdp simulate` builds it (robot,
-// contact points, Coulomb model, terrain, gains, trot gait, initial state, integrator options), run
-// with ne-pgm and pbd-pgm at several dt. MuJoCo (2.2.x, the Debian package): A1's URDF handed to
-// MuJoCo's own importer from memory with the oracle test's edits (tests/support/mujoco_urdf.hpp), plus a
-// floating joint on the root link (MuJoCo's free joint) and a ground box with its top face at z = 0,
+// Ours: the scene models/scenes/a1_trot_flat.json built by buildSimulation (sim/simulation.hpp), as
+// `nmdp simulate` builds it (robot, contact points, Coulomb model, terrain, gains, trot gait,
+// initial state, integrator options), run with ne-pgm and pbd-pgm at several dt (each run a fresh
+// Simulation with integrator.dt set). MuJoCo (2.2.x, the Debian package): A1's URDF handed to
+// MuJoCo's own importer from memory with the oracle test's edits (tests/support/mujoco_urdf.hpp),
+// plus a floating joint on the root link (MuJoCo's free joint) and a ground box with its top face at z = 0,
 // all in the URDF text (no lossy MJCF round trip). Only the foot spheres of the URDF's collision
 // geometry touch the ground (every other geom collides with nothing, as in ours, where only the
 // feet are contact points); their friction and the ground's are μ of our Coulomb model (condim 3,
@@ -63,13 +64,7 @@
 #include "equal_accuracy.hpp"
 #include "mujoco_a1_runs.hpp"
 #include "contact_models/coulomb_model.hpp"
-#include "config/json_params.hpp"
-#include "sim/scene.hpp"
-#include "multibody/data.hpp"
-#include "multibody/kinematics.hpp"
-#include "multibody/urdf_loader.hpp"
-#include "solver/integrator.hpp"
-#include "terrain/terrain_factory.hpp"
+#include "sim/simulation.hpp"
 
 using namespace nmdp;
 
@@ -174,37 +169,49 @@ double actuatedMin(const Model& model, const Eigen::VectorXd& gain) {
   return out;
 }
 
-// One scenario: every run, the table and the ratios, as markdown.
-std::string scenario(const Args& a, const std::vector<std::string>& overrides, const std::string& title) {
-  const std::string& scene_path = a.scene_path;
-  const int repeats = a.repeats;
-  const double duration = a.duration;
-  const std::unique_ptr<Ours> base = buildOurs(scene_path, overrides);
-  const Ours& o = *base;
-  const double mu = dynamic_cast<const CoulombModel&>(*o.contact_model).parameters().mu;
-  std::vector<std::unique_ptr<Ours>> configurations;
+// snprintf onto the end of `md` (one line of at most 1023 characters).
+template <class... A>
+void appendf(std::string& md, const char* fmt, A... args) {
+  char line[1024];
+  std::snprintf(line, sizeof line, fmt, args...);
+  md += line;
+}
+
+// One scenario's engines: our configurations (the scene's as the first), MuJoCo's model of the same
+// robot, the friction coefficient and the stability bounds.
+struct Scenario {
+  std::unique_ptr<Ours> base;
+  std::vector<std::unique_ptr<Ours>> configurations;  // one per Args::ours_configs
+  Mujoco mj;
+  double mu = 0;
+  Bounds bounds;
+};
+
+Scenario setUp(const Args& a, const std::vector<std::string>& overrides) {
+  Scenario sc;
+  sc.base = buildOurs(a.scene_path, overrides);
+  const Ours& o = *sc.base;
+  sc.mu = dynamic_cast<const CoulombModel&>(o.sim.contactModel()).parameters().mu;
   for (const auto& [label, settings] : a.ours_configs) {
     std::vector<std::string> all = overrides;
     all.insert(all.end(), settings.begin(), settings.end());
-    configurations.push_back(buildOurs(scene_path, all));
+    sc.configurations.push_back(buildOurs(a.scene_path, all));
   }
-
-  Mujoco mj = buildMujoco(o, mu);
+  sc.mj = buildMujoco(o, sc.mu);
   // Diagnostics only (the tables are with MuJoCo's defaults): stiffer contacts, elliptic cone.
   if (a.mujoco_timeconst > 0)
-    for (int g = 0; g < mj.m->ngeom; ++g) mj.m->geom_solref[mjNREF * g] = a.mujoco_timeconst;
-  if (a.mujoco_elliptic) mj.m->opt.cone = mjCONE_ELLIPTIC;
+    for (int g = 0; g < sc.mj.m->ngeom; ++g) sc.mj.m->geom_solref[mjNREF * g] = a.mujoco_timeconst;
+  if (a.mujoco_elliptic) sc.mj.m->opt.cone = mjCONE_ELLIPTIC;
+  Vec3 p, rpy;
+  o.sim.basePose(p, rpy);  // the initial state
+  sc.bounds.z_low = 0.5 * p.z();
+  sc.bounds.z_high = 1.5 * p.z();
+  return sc;
+}
 
-  Bounds bounds;
-  {
-    Data pose_data(o.model);
-    forwardKinematics(o.model, pose_data, o.q0);
-    Vec3 p, rpy;
-    basePose(o.model, pose_data, p, rpy);
-    bounds.z_low = 0.5 * p.z();
-    bounds.z_high = 1.5 * p.z();
-  }
-
+// Every run of the scenario, each engine's extra (finest) dts first, repeated interleaved; the rows
+// run once (finer than the benchmarked grid) only in the first repeat.
+std::vector<Row> runRows(const Args& a, Scenario& sc) {
   std::vector<Row> rows;
   auto add_row = [&](const std::string& family, const Ours* ours, double dt, bool extra) {
     Row row;
@@ -216,65 +223,72 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     for (double dt : a.mujoco_dts) add_row(engine, nullptr, dt, false);
   }
   for (size_t k = 0; k < a.ours_configs.size(); ++k) {
-    for (double dt : a.ours_extra_dts) add_row(a.ours_configs[k].first, configurations[k].get(), dt, true);
-    for (double dt : a.ours_dts) add_row(a.ours_configs[k].first, configurations[k].get(), dt, false);
+    for (double dt : a.ours_extra_dts) add_row(a.ours_configs[k].first, sc.configurations[k].get(), dt, true);
+    for (double dt : a.ours_dts) add_row(a.ours_configs[k].first, sc.configurations[k].get(), dt, false);
   }
-
-  // Interleaved repeats; the rows run once (finer than the benchmarked grid) only in the first.
-  for (int rep = 0; rep < repeats; ++rep)
+  for (int rep = 0; rep < a.repeats; ++rep)
     for (Row& row : rows) {
       if (row.extra && rep > 0) continue;
       std::fprintf(stderr, "repeat %d: %s dt = %g ...", rep + 1, row.family.c_str(), row.dt);
-      row.runs.push_back(isMujoco(row.family) ? runMujoco(o, mj, row.dt, duration, bounds, row.family == kMujocoImplicitKd)
-                                              : runOurs(*row.ours, row.dt, duration, bounds));
+      row.runs.push_back(isMujoco(row.family)
+                             ? runMujoco(*sc.base, sc.mj, row.dt, a.duration, sc.bounds, row.family == kMujocoImplicitKd)
+                             : runOurs(*row.ours, row.dt, a.duration, sc.bounds));
       const Run& r = row.runs.back();
       std::fprintf(stderr, " %.3f s wall, forward %.3f m%s%s\n", r.wall, r.forward, r.stable ? "" : ", unstable: ",
                    r.why.c_str());
     }
+  return rows;
+}
 
-  // Per row: medians; deviation from the finest run of the same family (its first repeat: every
-  // repeat is bit-identical), and whether it is within 5 % of it.
+// Per row: medians; deviation from the finest run of the same family (its first repeat: every
+// repeat is bit-identical), and whether it is within 5 % of it.
+struct Summary {
   std::map<std::string, const Row*> finest;
+  std::vector<bench::Configuration> timed;
+};
+
+Summary summarize(std::vector<Row>& rows) {
+  Summary s;
   for (const Row& row : rows)
-    if (!finest.count(row.family) || row.dt < finest[row.family]->dt) finest[row.family] = &row;
-  std::vector<bench::Configuration> configurations_timed;
+    if (!s.finest.count(row.family) || row.dt < s.finest[row.family]->dt) s.finest[row.family] = &row;
   for (Row& row : rows) {
     std::vector<double> wall, cpu;
     for (const Run& r : row.runs)
       if (r.t_end > 0) wall.push_back(r.wall / r.t_end), cpu.push_back(r.cpu / r.t_end);
     row.wall_per_s = median(wall);
     row.cpu_per_s = median(cpu);
-    const Row& ref = *finest[row.family];
+    const Row& ref = *s.finest[row.family];
     row.has_rms = rmsDeviation(row.runs.front(), row.dt, ref.runs.front(), ref.dt, row.rms);
     row.within = bench::withinTolerance(accuracyOf(row.runs.front()), row.has_rms ? row.rms : NAN, accuracyOf(ref.runs.front()));
-    configurations_timed.push_back({isMujoco(row.family) ? "MuJoCo" : "nmdp", row.family, row.dt, row.wall_per_s,
-                                    row.cpu_per_s, row.within, !row.extra});
+    s.timed.push_back({isMujoco(row.family) ? "MuJoCo" : "nmdp", row.family, row.dt, row.wall_per_s, row.cpu_per_s,
+                       row.within, !row.extra});
   }
+  return s;
+}
 
-  double target_cost = 0;  // s per evaluation of our gait target
-  {
-    PdTarget t;
-    t.position = Eigen::VectorXd::Zero(o.model.nq);
-    t.velocity = Eigen::VectorXd::Zero(o.model.nq);
-    const int n = 20000;
-    const double c0 = threadCpuSeconds();
-    for (int i = 0; i < n; ++i) o.target->evaluate(1e-3 * i, t);
-    target_cost = (threadCpuSeconds() - c0) / n;
-  }
-  std::string md = "### " + title + "\n\n";
-  char line[1024];
-  auto add = [&](const char* fmt, auto... args) {
-    std::snprintf(line, sizeof line, fmt, args...);
-    md += line;
-  };
-  add("A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`%s`: floating base, "
-      "Coulomb μ = %g, the built-in trot, gains kp %.4g–%.4g, kd %.4g–%.4g over the joints), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
-      "or, as \"MuJoCo, implicit kd\", its kd part as implicit joint damping) on the same "
-      "robot, PD targets, gains and initial standing pose; one core, %d interleaved repeats (medians), "
-      "`bench/bench_mujoco.cpp`.\n\n",
-      o.model.nq, o.model.total_mass, duration, std::filesystem::path(scene_path).filename().c_str(), mu,
-      actuatedMin(o.model, o.system.gains.kp), o.system.gains.kp.maxCoeff(), actuatedMin(o.model, o.system.gains.kd),
-      o.system.gains.kd.maxCoeff(), mujocoVersion().c_str(), repeats);
+double targetCost(const Ours& o) {  // s per evaluation of our gait target
+  PdTarget t;
+  t.position = Eigen::VectorXd::Zero(o.sim.model().nq);
+  t.velocity = Eigen::VectorXd::Zero(o.sim.model().nq);
+  const int n = 20000;
+  const double c0 = threadCpuSeconds();
+  for (int i = 0; i < n; ++i) o.sim.targets().evaluate(1e-3 * i, t);
+  return (threadCpuSeconds() - c0) / n;
+}
+
+std::string introduction(const Args& a, const Scenario& sc) {
+  const Model& model = sc.base->sim.model();
+  const PdGains& gains = sc.base->sim.system().gains;
+  std::string md;
+  appendf(md,
+          "A1 (%d DOF, %.2f kg) trotting on flat ground for %g s (`%s`: floating base, "
+          "Coulomb μ = %g, the built-in trot, gains kp %.4g–%.4g, kd %.4g–%.4g over the joints), ours vs MuJoCo %s (Euler, Newton solver, pyramidal cone; PD explicit via qfrc_applied, "
+          "or, as \"MuJoCo, implicit kd\", its kd part as implicit joint damping) on the same "
+          "robot, PD targets, gains and initial standing pose; one core, %d interleaved repeats (medians), "
+          "`bench/bench_mujoco.cpp`.\n\n",
+          model.nq, model.total_mass, a.duration, std::filesystem::path(a.scene_path).filename().c_str(), sc.mu,
+          actuatedMin(model, gains.kp), gains.kp.maxCoeff(), actuatedMin(model, gains.kd), gains.kd.maxCoeff(),
+          mujocoVersion().c_str(), a.repeats);
   if (a.ours_configs.size() > 2) {
     md += "Our configurations (each an nmdp family with its own finest run): ";
     for (size_t k = 0; k < a.ours_configs.size(); ++k) {
@@ -283,99 +297,129 @@ std::string scenario(const Args& a, const std::vector<std::string>& overrides, c
     }
     md += ".\n\n";
   }
-  add("| engine / configuration | dt | wall / simulated s | CPU / simulated s | real-time factor | stable? | forward in %g s | "
-      "|Δ(x, y)|, yaw | RMS deviation from own finest run | same, / its |Δ(x, y)| | within 5 %% | torso height | "
-      "sub-steps, outer it. / step |\n",
-      duration);
-  add("|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---:|\n");
-  for (const Row& row : rows) {
-    const Run& r = row.runs.front();
-    const Row& ref = *finest[row.family];
-    const bool is_ref = &ref == &row;
-    std::string stable = r.stable ? "yes" : "no: " + r.why;
-    char rb[64] = "—", rel[64] = "—";
-    if (is_ref) std::snprintf(rb, sizeof rb, "(reference)"), std::snprintf(rel, sizeof rel, "—");
-    else if (row.has_rms) {
-      std::snprintf(rb, sizeof rb, "%.4f m%s", row.rms, r.stable ? "" : " (until it stopped)");
-      if (ref.runs.front().stable)
-        std::snprintf(rel, sizeof rel, "%.1f %%", 100 * row.rms / std::max(1e-9, accuracyOf(ref.runs.front()).displacement));
-      else
-        std::snprintf(rel, sizeof rel, "— (reference fell)");
-    }
-    char fwd[64];
-    if (r.stable) std::snprintf(fwd, sizeof fwd, "%.3f m", r.forward);
-    else std::snprintf(fwd, sizeof fwd, "(%.3f m by t = %.2f s)", r.forward, r.t_end);
-    char dxy[64];
-    std::snprintf(dxy, sizeof dxy, "%.3f m, %+.2f rad", accuracyOf(r).displacement, r.yaw);
-    char it[64] = "—";
-    if (!isMujoco(row.family) && r.steps > 0)
-      std::snprintf(it, sizeof it, "%.2f, %.1f", double(r.substeps) / r.steps, double(r.outer) / r.steps);
-    char z[64];
-    std::snprintf(z, sizeof z, "%.3f–%.3f m", r.z_min, r.z_max);
-    add("| %s%s | %s | %s | %s | %.1f× | %s | %s | %s | %s | %s | %s | %s | %s |\n", row.family.c_str(),
-        row.extra ? " (1 run)" : "", fmtDt(row.dt).c_str(), fmtTime(row.wall_per_s).c_str(), fmtTime(row.cpu_per_s).c_str(),
-        1.0 / row.wall_per_s, stable.c_str(), fwd, dxy, rb, rel, row.within ? "yes" : "no", z, it);
-  }
-  add("\nStable: no NaN, torso height within [%.3f, %.3f] m (0.5–1.5× the initial %.3f m), |roll|, |pitch| < 1 rad, "
-      "every step of ours converged, no MuJoCo bad-qacc reset; an unstable run stops there (its time per simulated "
-      "second is over the time it ran). Deviation: RMS over the run's own time grid of the 3-D torso-position "
-      "difference from the same family's finest run, in metres and relative to that finest run's |Δ(x, y)|. "
-      "Real-time factor: simulated / wall time. MuJoCo's times include evaluating our gait target and the PD torque "
-      "every step (the target alone: %.2f µs per evaluation, measured here), as ours include its target per sub-step.\n\n",
-      bounds.z_low, bounds.z_high, bounds.z_low * 2, 1e6 * target_cost);
-  add("Within 5 %%: the run and its family's finest run are stable, the run's horizontal displacement |Δ(x, y)| is "
-      "within %g %% of the finest run's, its RMS torso deviation is below %g %% of that distance, and its final |yaw| "
-      "is below %g rad. Rows marked (1 run) are run once and are never the cheapest.\n\n",
-      100 * bench::kDistanceTolerance, 100 * bench::kRmsTolerance, bench::kYawMax);
+  return md;
+}
 
-  // Speed at equal accuracy: per family its cheapest run within 5 %, then per engine.
+// One table row per configuration and dt.
+std::string tableRow(const Row& row, const Row& ref) {
+  const Run& r = row.runs.front();
+  const bool is_ref = &ref == &row;
+  std::string stable = r.stable ? "yes" : "no: " + r.why;
+  char rb[64] = "—", rel[64] = "—";
+  if (is_ref) std::snprintf(rb, sizeof rb, "(reference)"), std::snprintf(rel, sizeof rel, "—");
+  else if (row.has_rms) {
+    std::snprintf(rb, sizeof rb, "%.4f m%s", row.rms, r.stable ? "" : " (until it stopped)");
+    if (ref.runs.front().stable)
+      std::snprintf(rel, sizeof rel, "%.1f %%", 100 * row.rms / std::max(1e-9, accuracyOf(ref.runs.front()).displacement));
+    else
+      std::snprintf(rel, sizeof rel, "— (reference fell)");
+  }
+  char fwd[64];
+  if (r.stable) std::snprintf(fwd, sizeof fwd, "%.3f m", r.forward);
+  else std::snprintf(fwd, sizeof fwd, "(%.3f m by t = %.2f s)", r.forward, r.t_end);
+  char dxy[64];
+  std::snprintf(dxy, sizeof dxy, "%.3f m, %+.2f rad", accuracyOf(r).displacement, r.yaw);
+  char it[64] = "—";
+  if (!isMujoco(row.family) && r.steps > 0)
+    std::snprintf(it, sizeof it, "%.2f, %.1f", double(r.substeps) / r.steps, double(r.outer) / r.steps);
+  char z[64];
+  std::snprintf(z, sizeof z, "%.3f–%.3f m", r.z_min, r.z_max);
+  std::string md;
+  appendf(md, "| %s%s | %s | %s | %s | %.1f× | %s | %s | %s | %s | %s | %s | %s | %s |\n", row.family.c_str(),
+          row.extra ? " (1 run)" : "", fmtDt(row.dt).c_str(), fmtTime(row.wall_per_s).c_str(), fmtTime(row.cpu_per_s).c_str(),
+          1.0 / row.wall_per_s, stable.c_str(), fwd, dxy, rb, rel, row.within ? "yes" : "no", z, it);
+  return md;
+}
+
+std::string table(const std::vector<Row>& rows, const Summary& s, const Scenario& sc, double duration) {
+  std::string md;
+  appendf(md,
+          "| engine / configuration | dt | wall / simulated s | CPU / simulated s | real-time factor | stable? | forward in %g s | "
+          "|Δ(x, y)|, yaw | RMS deviation from own finest run | same, / its |Δ(x, y)| | within 5 %% | torso height | "
+          "sub-steps, outer it. / step |\n",
+          duration);
+  appendf(md, "|---|---:|---:|---:|---:|---|---:|---:|---:|---:|---|---:|---:|\n");
+  for (const Row& row : rows) md += tableRow(row, *s.finest.at(row.family));
+  appendf(md,
+          "\nStable: no NaN, torso height within [%.3f, %.3f] m (0.5–1.5× the initial %.3f m), |roll|, |pitch| < 1 rad, "
+          "every step of ours converged, no MuJoCo bad-qacc reset; an unstable run stops there (its time per simulated "
+          "second is over the time it ran). Deviation: RMS over the run's own time grid of the 3-D torso-position "
+          "difference from the same family's finest run, in metres and relative to that finest run's |Δ(x, y)|. "
+          "Real-time factor: simulated / wall time. MuJoCo's times include evaluating our gait target and the PD torque "
+          "every step (the target alone: %.2f µs per evaluation, measured here), as ours include its target per sub-step.\n\n",
+          sc.bounds.z_low, sc.bounds.z_high, sc.bounds.z_low * 2, 1e6 * targetCost(*sc.base));
+  appendf(md,
+          "Within 5 %%: the run and its family's finest run are stable, the run's horizontal displacement |Δ(x, y)| is "
+          "within %g %% of the finest run's, its RMS torso deviation is below %g %% of that distance, and its final |yaw| "
+          "is below %g rad. Rows marked (1 run) are run once and are never the cheapest.\n\n",
+          100 * bench::kDistanceTolerance, 100 * bench::kRmsTolerance, bench::kYawMax);
+  return md;
+}
+
+// The headline: each engine's cheapest configuration within 5 % of its own finest run.
+std::string speedAtEqualAccuracy(const std::vector<bench::Configuration>& timed) {
+  std::string md;
+  const bench::Configuration* mj_best = bench::cheapestWithin(timed, "MuJoCo");
+  const bench::Configuration* ours_best = bench::cheapestWithin(timed, "nmdp");
+  if (mj_best && ours_best)
+    appendf(md,
+            "- **Speed at equal accuracy**: the cheapest configuration of each engine within 5 %% of its own finest run: "
+            "nmdp %s at %s (%s per simulated second), MuJoCo%s at %s (%s); nmdp / MuJoCo = **%.2f×** wall time (%.2f× "
+            "CPU time); target at most 0.5×: **%s**.\n",
+            ours_best->family.c_str(), fmtDt(ours_best->dt).c_str(), fmtTime(ours_best->wall_per_s).c_str(),
+            mj_best->family == kMujoco ? "" : (" (" + mj_best->family.substr(std::strlen(kMujoco) + 2) + ")").c_str(),
+            fmtDt(mj_best->dt).c_str(), fmtTime(mj_best->wall_per_s).c_str(), ours_best->wall_per_s / mj_best->wall_per_s,
+            ours_best->cpu_per_s / mj_best->cpu_per_s, ours_best->wall_per_s <= 0.5 * mj_best->wall_per_s ? "met" : "not met");
+  else
+    appendf(md, "- **Speed at equal accuracy**: undefined: %s within 5 %% of its own finest run.\n",
+            !mj_best && !ours_best ? "neither engine has a timed run" : !mj_best ? "MuJoCo has no timed run" : "nmdp has no timed run");
+  return md;
+}
+
+// Speed at equal accuracy: per family its cheapest run within 5 %, then per engine.
+std::string conclusions(const std::vector<Row>& rows, const Summary& s, double duration) {
+  std::string md;
   std::vector<std::string> families;  // in the table's order
   for (const Row& row : rows)
     if (std::find(families.begin(), families.end(), row.family) == families.end()) families.push_back(row.family);
   for (const std::string& family : families) {
-    const Row* ref = finest[family];
+    const Row* ref = s.finest.at(family);
     const bench::Configuration* best = nullptr;
-    for (const bench::Configuration& c : configurations_timed)
+    for (const bench::Configuration& c : s.timed)
       if (c.family == family && c.candidate && c.within && (!best || c.wall_per_s < best->wall_per_s)) best = &c;
     const Run& fr = ref->runs.front();
     if (best)
-      add("- %s: cheapest within 5 %% of its %s run: %s (%s wall, %s CPU per simulated second).\n", family.c_str(),
-          fmtDt(ref->dt).c_str(), fmtDt(best->dt).c_str(), fmtTime(best->wall_per_s).c_str(), fmtTime(best->cpu_per_s).c_str());
+      appendf(md, "- %s: cheapest within 5 %% of its %s run: %s (%s wall, %s CPU per simulated second).\n", family.c_str(),
+              fmtDt(ref->dt).c_str(), fmtDt(best->dt).c_str(), fmtTime(best->wall_per_s).c_str(), fmtTime(best->cpu_per_s).c_str());
     else if (!fr.stable)
-      add("- %s: its finest run (%s) is itself not stable (%s): nothing to be accurate to.\n", family.c_str(),
-          fmtDt(ref->dt).c_str(), fr.why.c_str());
+      appendf(md, "- %s: its finest run (%s) is itself not stable (%s): nothing to be accurate to.\n", family.c_str(),
+              fmtDt(ref->dt).c_str(), fr.why.c_str());
     else
-      add("- %s: no timed run within 5 %% of its %s run.\n", family.c_str(), fmtDt(ref->dt).c_str());
+      appendf(md, "- %s: no timed run within 5 %% of its %s run.\n", family.c_str(), fmtDt(ref->dt).c_str());
   }
-  const bench::Configuration* mj_best = bench::cheapestWithin(configurations_timed, "MuJoCo");
-  const bench::Configuration* ours_best = bench::cheapestWithin(configurations_timed, "nmdp");
-  if (mj_best && ours_best)
-    add("- **Speed at equal accuracy**: the cheapest configuration of each engine within 5 %% of its own finest run: "
-        "nmdp %s at %s (%s per simulated second), MuJoCo%s at %s (%s); nmdp / MuJoCo = **%.2f×** wall time (%.2f× "
-        "CPU time); target at most 0.5×: **%s**.\n",
-        ours_best->family.c_str(), fmtDt(ours_best->dt).c_str(), fmtTime(ours_best->wall_per_s).c_str(),
-        mj_best->family == kMujoco ? "" : (" (" + mj_best->family.substr(std::strlen(kMujoco) + 2) + ")").c_str(),
-        fmtDt(mj_best->dt).c_str(), fmtTime(mj_best->wall_per_s).c_str(), ours_best->wall_per_s / mj_best->wall_per_s,
-        ours_best->cpu_per_s / mj_best->cpu_per_s, ours_best->wall_per_s <= 0.5 * mj_best->wall_per_s ? "met" : "not met");
-  else
-    add("- **Speed at equal accuracy**: undefined: %s within 5 %% of its own finest run.\n",
-        !mj_best && !ours_best ? "neither engine has a timed run" : !mj_best ? "MuJoCo has no timed run" : "nmdp has no timed run");
-  {
-    std::string fine;
-    for (const Row& row : rows)
-      if (&row == finest[row.family]) {
-        const Run& r = row.runs.front();
-        char b[200];
-        if (r.stable)
-          std::snprintf(b, sizeof b, "%s%s at %s %.3f m (|Δ(x, y)| %.3f m, yaw %+.2f rad)", fine.empty() ? "" : "; ",
-                        row.family.c_str(), fmtDt(row.dt).c_str(), r.forward, accuracyOf(r).displacement, r.yaw);
-        else std::snprintf(b, sizeof b, "%s%s at %s falls (%s)", fine.empty() ? "" : "; ", row.family.c_str(), fmtDt(row.dt).c_str(), r.why.c_str());
-        fine += b;
-      }
-    add("- Forward distance in %g s at the finest dt of each: %s.\n", duration, fine.c_str());
-  }
-
+  md += speedAtEqualAccuracy(s.timed);
+  std::string fine;
+  for (const Row& row : rows)
+    if (&row == s.finest.at(row.family)) {
+      const Run& r = row.runs.front();
+      char b[200];
+      if (r.stable)
+        std::snprintf(b, sizeof b, "%s%s at %s %.3f m (|Δ(x, y)| %.3f m, yaw %+.2f rad)", fine.empty() ? "" : "; ",
+                      row.family.c_str(), fmtDt(row.dt).c_str(), r.forward, accuracyOf(r).displacement, r.yaw);
+      else std::snprintf(b, sizeof b, "%s%s at %s falls (%s)", fine.empty() ? "" : "; ", row.family.c_str(), fmtDt(row.dt).c_str(), r.why.c_str());
+      fine += b;
+    }
+  appendf(md, "- Forward distance in %g s at the finest dt of each: %s.\n", duration, fine.c_str());
   return md;
+}
+
+// One scenario: every run, the table and the ratios, as markdown.
+std::string scenario(const Args& a, const std::vector<std::string>& overrides, const std::string& title) {
+  Scenario sc = setUp(a, overrides);
+  std::vector<Row> rows = runRows(a, sc);
+  const Summary summary = summarize(rows);
+  return "### " + title + "\n\n" + introduction(a, sc) + table(rows, summary, sc, a.duration) +
+         conclusions(rows, summary, a.duration);
 }
 
 }  // namespace

@@ -1,4 +1,4 @@
-// bench_mujoco's runs: A1's trot in ours (the scene built as `nmdp simulate` builds it) and in
+// bench_mujoco's runs: A1's trot in ours (the scene built by buildSimulation, as `nmdp simulate` builds it) and in
 // MuJoCo (A1's URDF through MuJoCo's importer, the same targets, gains and initial state), each
 // recorded as the torso's path with a stability check. bench/bench_mujoco.cpp describes the set-up
 // and compares the runs.
@@ -17,13 +17,10 @@
 #include "bench_clock.hpp"
 #include "tests/support/mujoco_urdf.hpp"
 #include "contact_models/coulomb_model.hpp"
-#include "config/json_params.hpp"
-#include "sim/scene.hpp"
 #include "multibody/data.hpp"
 #include "multibody/kinematics.hpp"
-#include "multibody/urdf_loader.hpp"
-#include "solver/integrator.hpp"
-#include "terrain/terrain_factory.hpp"
+#include "sim/scene.hpp"
+#include "sim/simulation.hpp"
 
 namespace nmdp::bench {
 
@@ -87,38 +84,44 @@ inline bool observe(Run& r, const Bounds& b, double t, const Vec3& p, const Vec3
 
 // ---- ours -----------------------------------------------------------------------------------------
 
+// The scene with the --set overrides, and its simulation at the scene's dt: the robot, contact points,
+// gains, targets and initial state MuJoCo is given.
 struct Ours {
-  SceneConfig config;
-  Model model;
-  std::unique_ptr<ContactModel> contact_model;
-  std::unique_ptr<Terrain> terrain;
-  System system;
-  std::unique_ptr<PdTargetSource> target;
-  Eigen::VectorXd q0, qd0;
+  std::string scene_path;
+  nlohmann::json scene_json;
+  Simulation sim;
 };
 
-// One run with the configuration's own integrator settings (the scene's, with its --ours-config).
+// The contact models this benchmark runs: Coulomb only (MuJoCo has no granular model; no libtorch).
+inline ContactModelRegistry coulombOnly() {
+  ContactModelRegistry models;
+  models.add("coulomb", kCoulombParameters, makeCoulombModel);
+  return models;
+}
+
+// Ours, built by buildSimulation as `nmdp simulate` builds the scene, with integrator.dt = dt.
+inline Simulation simulationAt(const Ours& o, double dt) {
+  nlohmann::json scene = o.scene_json;
+  char assignment[64];
+  std::snprintf(assignment, sizeof assignment, "integrator.dt=%.17g", dt);
+  applyOverride(scene, assignment, o.scene_path + ": --set");
+  return buildSimulation(parseScene(scene, o.scene_path), coulombOnly());
+}
+
+// One run at dt with the configuration's own integrator settings (the scene's, with its --ours-config).
 inline Run runOurs(const Ours& o, double dt, double duration, const Bounds& bounds) {
-  const IntegratorOptions& options = o.config.integrator;
-  StepWorkspace ws(o.system, options);
-  SimulationState state = initialState(o.system, options, o.q0, o.qd0, dt);
-  Data pose_data(o.model);
+  Simulation sim = simulationAt(o, dt);
   Vec3 p, rpy;
-  auto pose = [&] {
-    pose_data.base_chart = state.base_chart;
-    forwardKinematics(o.model, pose_data, state.q);
-    basePose(o.model, pose_data, p, rpy);
-  };
   Run r;
   const long steps = std::lround(duration / dt);
   r.position.reserve(steps + 1);
-  pose();
+  sim.basePose(p, rpy);
   const Vec3 p0 = p;
   observe(r, bounds, 0.0, p, rpy, p0);
   double wall = 0, cpu = 0;
   for (long i = 1; i <= steps; ++i) {
     const double w0 = wallSeconds(), c0 = threadCpuSeconds();
-    const StepStats s = advance(o.system, options, *o.target, state, dt, ws);
+    const StepStats s = sim.step();
     cpu += threadCpuSeconds() - c0;
     wall += wallSeconds() - w0;
     r.substeps += s.substeps, r.outer += s.outer_iterations, ++r.steps;
@@ -128,7 +131,7 @@ inline Run runOurs(const Ours& o, double dt, double duration, const Bounds& boun
       r.t_end = (i - 1) * dt;
       break;
     }
-    pose();  // outside the timing: the simulation does not need it
+    sim.basePose(p, rpy);  // outside the timing: the simulation does not need it
     if (!observe(r, bounds, i * dt, p, rpy, p0)) break;
   }
   r.wall = wall, r.cpu = cpu;
@@ -164,22 +167,22 @@ inline std::string mujocoVersion() {
 // is the identity at t = 0), q̇0 = 0 (the scene's: asserted), and mj_forward.
 inline void setInitialState(const Ours& o, const Mujoco& mj, mjData* d) {
   const mjModel* m = mj.m.get();
-  if (o.qd0.cwiseAbs().maxCoeff() != 0) throw std::runtime_error("non-zero initial velocity is not mapped to MuJoCo");
-  Data pose_data(o.model);
-  forwardKinematics(o.model, pose_data, o.q0);
+  if (o.sim.initialVelocity().cwiseAbs().maxCoeff() != 0) throw std::runtime_error("non-zero initial velocity is not mapped to MuJoCo");
+  Data pose_data(o.sim.model());
+  forwardKinematics(o.sim.model(), pose_data, o.sim.initialConfiguration());
   Vec3 p0, rpy0;
-  basePose(o.model, pose_data, p0, rpy0);
+  basePose(o.sim.model(), pose_data, p0, rpy0);
   const Eigen::Quaterniond q0(test::rpyMatrix(rpy0));
   mj_resetData(m, d);
   for (int k = 0; k < 3; ++k) d->qpos[mj.free_qpos + k] = p0[k];
   d->qpos[mj.free_qpos + 3] = q0.w(), d->qpos[mj.free_qpos + 4] = q0.x(), d->qpos[mj.free_qpos + 5] = q0.y();
   d->qpos[mj.free_qpos + 6] = q0.z();
-  for (size_t k = 0; k < mj.coordinate.size(); ++k) d->qpos[mj.qposadr[k]] = o.q0[mj.coordinate[k]];
+  for (size_t k = 0; k < mj.coordinate.size(); ++k) d->qpos[mj.qposadr[k]] = o.sim.initialConfiguration()[mj.coordinate[k]];
   mju_zero(d->qvel, m->nv);
   mj_forward(m, d);
 }
 
-inline Mujoco buildMujoco(const Ours& o, double mu) {
+inline std::string floatingUrdfForMujoco(const Ours& o) {
   // The URDF MuJoCo is given: the oracle test's edits (visuals removed, MuJoCo's inertia
   // alterations off, principal-axes inertias; static links fused into their parents), plus a root
   // link "mj_world" holding the robot's root link by a floating joint (MuJoCo's free joint) and the
@@ -188,11 +191,11 @@ inline Mujoco buildMujoco(const Ours& o, double mu) {
   // into MuJoCo's world body. Everything stays in memory: no lossy MJCF round trip (mj_saveLastXML
   // writes 6 significant digits).
   std::string root;  // the URDF's root link (A1: base, welded to trunk)
-  for (const Link& l : o.model.links)
+  for (const Link& l : o.sim.model().links)
     if (l.parent_link < 0) root = l.name;
-  std::string urdf = test::urdfForMujoco(readFile(o.config.urdf), /*fusestatic=*/true);
+  std::string urdf = test::urdfForMujoco(readFile(o.sim.scene().urdf), /*fusestatic=*/true);
   const size_t close = urdf.rfind("</robot>");
-  if (close == std::string::npos) throw std::runtime_error("no </robot> in " + o.config.urdf);
+  if (close == std::string::npos) throw std::runtime_error("no </robot> in " + o.sim.scene().urdf);
   urdf.insert(close,
               "  <link name=\"mj_world\"/>\n"
               "  <joint name=\"mj_free\" type=\"floating\"><parent link=\"mj_world\"/><child link=\"" + root +
@@ -201,6 +204,13 @@ inline Mujoco buildMujoco(const Ours& o, double mu) {
               "<box size=\"200 200 1\"/></geometry></collision></link>\n"
               "  <joint name=\"mj_ground_fixed\" type=\"fixed\"><parent link=\"mj_world\"/><child link=\"mj_ground\"/>"
               "<origin xyz=\"0 0 0\" rpy=\"0 0 0\"/></joint>\n");
+  return urdf;
+}
+
+// MuJoCo's model of the robot: gravity ours, joint limits off, the free joint and the actuated
+// joints mapped to our coordinates; no contact set up yet.
+inline Mujoco loadMujoco(const Ours& o, double mu) {
+  const std::string urdf = floatingUrdfForMujoco(o);
   std::string error;
   test::MjModelPtr m = test::loadMujocoFromMemory(urdf, "a1_floating.urdf", error);
   if (!m) throw std::runtime_error(error);
@@ -208,7 +218,7 @@ inline Mujoco buildMujoco(const Ours& o, double mu) {
 
   Mujoco mj;
   mj.mu = mu;
-  for (int k = 0; k < 3; ++k) m->opt.gravity[k] = o.model.gravity[k];
+  for (int k = 0; k < 3; ++k) m->opt.gravity[k] = o.sim.model().gravity[k];
   for (int i = 0; i < m->nv; ++i)
     if (m->dof_armature[i] != 0 || m->dof_damping[i] != 0 || m->dof_frictionloss[i] != 0)
       throw std::runtime_error("MuJoCo model has armature/damping/friction loss on dof " + std::to_string(i));
@@ -221,28 +231,31 @@ inline Mujoco buildMujoco(const Ours& o, double mu) {
   mj.trunk = m->jnt_bodyid[free_joint];
   mj.free_qpos = m->jnt_qposadr[free_joint];
   mj.free_dof = m->jnt_dofadr[free_joint];
-  if (std::abs(m->body_subtreemass[mj.trunk] - o.model.total_mass) > 1e-9 * o.model.total_mass)
+  if (std::abs(m->body_subtreemass[mj.trunk] - o.sim.model().total_mass) > 1e-9 * o.sim.model().total_mass)
     throw std::runtime_error("MuJoCo's robot mass " + std::to_string(m->body_subtreemass[mj.trunk]) + " differs from ours");
   // Actuated joints by name.
-  for (int i = 0; i < o.model.nq; ++i) {
-    if (o.model.bodies[i].is_base) continue;
-    const int j = mj_name2id(m.get(), mjOBJ_JOINT, o.model.dof_names[i].c_str());
-    if (j < 0) throw std::runtime_error("MuJoCo has no joint " + o.model.dof_names[i]);
+  for (int i = 0; i < o.sim.model().nq; ++i) {
+    if (o.sim.model().bodies[i].is_base) continue;
+    const int j = mj_name2id(m.get(), mjOBJ_JOINT, o.sim.model().dof_names[i].c_str());
+    if (j < 0) throw std::runtime_error("MuJoCo has no joint " + o.sim.model().dof_names[i]);
     mj.coordinate.push_back(i);
     mj.qposadr.push_back(m->jnt_qposadr[j]);
     mj.dofadr.push_back(m->jnt_dofadr[j]);
   }
-  if (m->nv != o.model.nq) throw std::runtime_error("MuJoCo and nmdp disagree on the number of degrees of freedom");
-
-  // Contacts: the foot spheres (matched to our contact points by their world centres at the
-  // initial pose, and by radius) against the ground only.
+  if (m->nv != o.sim.model().nq) throw std::runtime_error("MuJoCo and nmdp disagree on the number of degrees of freedom");
   mj.m = std::move(m);
-  m.reset();
+  return mj;
+}
+
+// Contacts: the foot spheres (matched to our contact points by their world centres at the initial
+// pose, and by radius) against the ground only, with friction mu.
+inline void enableFootContacts(const Ours& o, Mujoco& mj) {
+  const double mu = mj.mu;
   mjModel* mm = mj.m.get();
   test::MjDataPtr d(mj_makeData(mm));
   setInitialState(o, mj, d.get());
-  Data data(o.model);
-  forwardKinematics(o.model, data, o.q0);
+  Data data(o.sim.model());
+  forwardKinematics(o.sim.model(), data, o.sim.initialConfiguration());
   int ground = -1;
   for (int g = 0; g < mm->ngeom; ++g) {
     mm->geom_contype[g] = 0;
@@ -253,8 +266,8 @@ inline Mujoco buildMujoco(const Ours& o, double mu) {
   mm->geom_conaffinity[ground] = 1;
   mm->geom_friction[3 * ground] = mu;
   mm->geom_condim[ground] = 3;
-  for (const ContactPoint& c : o.system.contacts) {
-    const Vec3 centre = linkPoint(o.model, data, c.link, c.offset);
+  for (const ContactPoint& c : o.sim.system().contacts) {
+    const Vec3 centre = linkPoint(o.sim.model(), data, c.link, c.offset);
     int found = -1;
     for (int g = 0; g < mm->ngeom; ++g)
       if (mm->geom_type[g] == mjGEOM_SPHERE && std::abs(mm->geom_size[3 * g] - c.radius) < 1e-12 &&
@@ -266,7 +279,10 @@ inline Mujoco buildMujoco(const Ours& o, double mu) {
     mm->geom_condim[found] = 3;
     ++mj.feet;
   }
-  // The defaults the report states.
+}
+
+// The defaults the report states.
+inline void checkMujocoDefaults(const mjModel* mm) {
   if (mm->opt.integrator != mjINT_EULER || mm->opt.solver != mjSOL_NEWTON || mm->opt.cone != mjCONE_PYRAMIDAL)
     throw std::runtime_error("MuJoCo's options are not the defaults this benchmark reports");
   for (int g = 0; g < mm->ngeom; ++g)
@@ -274,6 +290,12 @@ inline Mujoco buildMujoco(const Ours& o, double mu) {
       if (mm->geom_solref[mjNREF * g] != 0.02 || mm->geom_solref[mjNREF * g + 1] != 1 || mm->geom_solimp[mjNIMP * g] != 0.9 ||
           mm->geom_solimp[mjNIMP * g + 1] != 0.95 || mm->geom_solimp[mjNIMP * g + 2] != 0.001)
         throw std::runtime_error("MuJoCo's contact solref/solimp are not the defaults this benchmark reports");
+}
+
+inline Mujoco buildMujoco(const Ours& o, double mu) {
+  Mujoco mj = loadMujoco(o, mu);
+  enableFootContacts(o, mj);
+  checkMujocoDefaults(mj.m.get());
   return mj;
 }
 
@@ -291,15 +313,15 @@ inline bool isMujoco(const std::string& engine) { return engine == kMujoco || en
 inline Run runMujoco(const Ours& o, Mujoco& mj, double dt, double duration, const Bounds& bounds, bool implicit_kd) {
   mjModel* m = mj.m.get();
   m->opt.timestep = dt;
-  for (size_t k = 0; k < mj.coordinate.size(); ++k) m->dof_damping[mj.dofadr[k]] = implicit_kd ? o.system.gains.kd[mj.coordinate[k]] : 0.0;
+  for (size_t k = 0; k < mj.coordinate.size(); ++k) m->dof_damping[mj.dofadr[k]] = implicit_kd ? o.sim.system().gains.kd[mj.coordinate[k]] : 0.0;
   test::MjDataPtr d(mj_makeData(m));
   setInitialState(o, mj, d.get());
   Vec3 p0 = Eigen::Map<const Vec3>(d->qpos + mj.free_qpos);
 
   PdTarget target;
-  target.position = Eigen::VectorXd::Zero(o.model.nq);
-  target.velocity = Eigen::VectorXd::Zero(o.model.nq);
-  const PdGains& g = o.system.gains;
+  target.position = Eigen::VectorXd::Zero(o.sim.model().nq);
+  target.velocity = Eigen::VectorXd::Zero(o.sim.model().nq);
+  const PdGains& g = o.sim.system().gains;
   Run r;
   const long steps = std::lround(duration / dt);
   r.position.reserve(steps + 1);
@@ -313,7 +335,7 @@ inline Run runMujoco(const Ours& o, Mujoco& mj, double dt, double duration, cons
   const double w0 = wallSeconds(), c0 = threadCpuSeconds();
   double pose_wall = 0, pose_cpu = 0;
   for (long i = 1; i <= steps; ++i) {
-    o.target->evaluate((i - 1) * dt, target);  // explicit: the target and the state at the step's start
+    o.sim.targets().evaluate((i - 1) * dt, target);  // explicit: the target and the state at the step's start
     for (size_t k = 0; k < mj.coordinate.size(); ++k) {
       const int c = mj.coordinate[k];
       d->qfrc_applied[mj.dofadr[k]] = g.kp[c] * (target.position[c] - d->qpos[mj.qposadr[k]]) +
@@ -338,25 +360,11 @@ inline Run runMujoco(const Ours& o, Mujoco& mj, double dt, double duration, cons
 
 // Ours, built as `nmdp simulate` builds the scene with these --set overrides.
 inline std::unique_ptr<Ours> buildOurs(const std::string& scene_path, const std::vector<std::string>& overrides) {
-  auto o = std::make_unique<Ours>();
   nlohmann::json scene_json = loadSceneJson(scene_path);
   for (const std::string& assignment : overrides) applyOverride(scene_json, assignment, scene_path + ": --set");
-  o->config = parseScene(scene_json, scene_path);
-  o->model = loadUrdf(o->config.urdf, urdfOptionsFor(o->config));
-  validateAgainstModel(o->config, o->model);
-  if (o->config.contact_model.value("type", "") != "coulomb") throw std::runtime_error("the scene's contact model must be coulomb");
-  o->contact_model = makeCoulombModel(o->config.contact_model, ConfigContext{scene_path + ": contacts.model", o->config.base_dir});
-  o->terrain = makeTerrain(o->config.terrain, ConfigContext{scene_path + ": terrain", o->config.base_dir});
-  o->system.model = &o->model;
-  o->system.contacts = contactPointsFor(o->config, o->model);
-  o->system.contact_model = o->contact_model.get();
-  o->system.terrain = o->terrain.get();
-  o->system.gains = gainsFor(o->config, o->model);
-  o->target = gaitFor(o->config, o->model);
-  o->q0 = initialConfiguration(o->config, o->model);
-  o->qd0 = initialVelocity(o->config, o->model);
-  validateSystem(o->system, o->config.integrator);
-  return o;
+  const SceneConfig config = parseScene(scene_json, scene_path);
+  if (config.contact_model.value("type", "") != "coulomb") throw std::runtime_error("the scene's contact model must be coulomb");
+  return std::make_unique<Ours>(Ours{scene_path, std::move(scene_json), buildSimulation(config, coulombOnly())});
 }
 
 }  // namespace nmdp::bench

@@ -1,8 +1,8 @@
 // nmdp simulate SCENE.json [--set key.path=value ...] [--out FILE.h5] [--quiet]
 //
-// Loads the scene (sim/scene.hpp), builds the robot, contacts, contact model (registry), terrain,
-// gains and gait, and steps the integrator for the scene's duration, writing every recorded step
-// to HDF5 as it goes (sim/trajectory_writer.hpp). The file only ever holds completed steps, each
+// Loads the scene (sim/scene.hpp), builds its simulation (sim/simulation.hpp: robot, contacts,
+// contact model from the built-in registry, terrain, gains and gait) and steps it for the scene's
+// duration, writing every recorded step to HDF5 as it goes (sim/trajectory_recorder.hpp). The file only ever holds completed steps, each
 // what the solver converged to: a step that fails even at the smallest sub-step, or diverges
 // (solver/energy_balance.hpp), or a disk that fills ends the run with the file keeping every
 // completed step and saying why, and so does stderr. SIGINT and SIGTERM are honoured in every phase
@@ -21,11 +21,9 @@
 #include "contact_models/registry.hpp"
 #include "io/output_path.hpp"
 #include "sim/scene.hpp"
+#include "sim/simulation.hpp"
+#include "sim/trajectory_recorder.hpp"
 #include "sim/trajectory_writer.hpp"
-#include "multibody/kinematics.hpp"
-#include "multibody/urdf_loader.hpp"
-#include "solver/integrator.hpp"
-#include "terrain/terrain_factory.hpp"
 
 namespace nmdp::app {
 
@@ -84,17 +82,6 @@ Options parseArgs(const Args& args) {
   return o;
 }
 
-// Library builders report unusable values with std::invalid_argument; at the edge they become
-// input errors naming the scene.
-template <class F>
-auto asInputError(const std::string& where, F&& f) -> decltype(f()) {
-  try {
-    return f();
-  } catch (const std::invalid_argument& e) {
-    throw InputError(where + ": " + e.what());
-  }
-}
-
 // The files a run reads, which its output may not replace (io/output_path.hpp).
 std::vector<RunInput> runInputs(const SceneConfig& config) {
   std::vector<RunInput> inputs = {{config.path, "the scene"}, {config.urdf, "the URDF"}};
@@ -114,16 +101,6 @@ std::vector<RunInput> runInputs(const SceneConfig& config) {
   addFiles(config.terrain, "the terrain file", addFiles);
   return inputs;
 }
-
-// The completed step a run ends with: what a row is written from.
-struct LastStep {
-  double time = 0.0;
-  Eigen::VectorXd q, qd;
-  Mat3 base_chart = Mat3::Identity();
-  std::vector<Vec6> wrench;
-  StepStats stats;
-  bool recorded = false;
-};
 
 std::string seconds(double t) {
   char text[32];
@@ -145,6 +122,49 @@ std::string describeFailure(const StepStats& stats, long index, double t0, const
   return step + " failed: " + toString(stats.status) + " at the smallest sub-step " + seconds(options.min_substep) + " s";
 }
 
+// The scene with the command line's --set overrides and --out.
+SceneConfig loadScene(const Options& opt) {
+  nlohmann::json scene_json = loadSceneJson(opt.scene);
+  for (const std::string& assignment : opt.overrides) applyOverride(scene_json, assignment, opt.scene + ": --set");
+  SceneConfig config = parseScene(scene_json, opt.scene);
+  if (!opt.out.empty()) {
+    config.output_file = std::filesystem::absolute(opt.out).lexically_normal().string();
+    config.resolved["output"]["file"] = config.output_file;  // the config records the file written
+  }
+  return config;
+}
+
+// How a run ended: why it ended early (writer status "failed: ..." or "interrupted ..."), if it did.
+struct Ending {
+  std::string failure, interruption;
+  bool early() const { return !failure.empty() || !interruption.empty(); }
+};
+
+// Steps the simulation for the scene's duration, writing as it goes (the recorder observes every
+// completed step), until a step fails, a signal arrives or the disk fills.
+Ending runSteps(Simulation& sim, TrajectoryRecorder& recorder, const StopSignals& stop) {
+  Ending end;
+  const long steps = sim.scheduledSteps();
+  try {
+    recorder.start();  // the first row is the initial state
+    for (long i = 0; i < steps; ++i) {
+      if (stop.received()) break;
+      const double t0 = sim.time();
+      const StepStats stats = sim.step(stop.flag());
+      if (!stats.converged) {
+        if (stats.status != StepStatus::Cancelled) end.failure = describeFailure(stats, i + 1, t0, sim.options());
+        break;
+      }
+    }
+    if (stop.received() && end.failure.empty() && recorder.completedSteps() < steps)
+      end.interruption = std::string("by ") + StopSignals::name(stop.received()) + " at t = " + seconds(recorder.lastTime()) + " s";
+    recorder.finish();  // the last completed step, not the state a failed or interrupted step left
+  } catch (const TrajectoryWriter::OutOfSpace& e) {
+    end.failure = "stopped at t = " + seconds(recorder.lastTime()) + " s, the disk being full: " + e.what();
+  }
+  return end;
+}
+
 }  // namespace
 
 int runSimulate(const Args& args) {
@@ -157,121 +177,35 @@ int runSimulate(const Args& args) {
               << "; nothing was written\n";
     return 4;
   };
-  nlohmann::json scene_json = loadSceneJson(opt.scene);
-  for (const std::string& assignment : opt.overrides) applyOverride(scene_json, assignment, opt.scene + ": --set");
-  SceneConfig config = parseScene(scene_json, opt.scene);
-  if (!opt.out.empty()) {
-    config.output_file = std::filesystem::absolute(opt.out).lexically_normal().string();
-    config.resolved["output"]["file"] = config.output_file;  // the config records the file written
-  }
+  const SceneConfig config = loadScene(opt);
   checkOutputFile(config.output_file, runInputs(config), opt.out.empty() ? opt.scene + ": output.file" : "--out");
   if (stop.received()) return interruptedWhile("loading the scene");
 
   // Everything that can be wrong with the input is checked before the output file is created.
-  const Model model = loadUrdf(config.urdf, urdfOptionsFor(config));
-  validateAgainstModel(config, model);
+  Model robot = loadSceneRobot(config);
   if (stop.received()) return interruptedWhile("loading the robot");
-  const ConfigContext model_ctx{opt.scene + ": contacts.model", config.base_dir};
-  const std::unique_ptr<ContactModel> contact_model = ContactModelRegistry::withBuiltins().build(config.contact_model, model_ctx);
-  const std::unique_ptr<Terrain> terrain = makeTerrain(config.terrain, ConfigContext{opt.scene + ": terrain", config.base_dir});
-  System system;
-  system.model = &model;
-  system.contacts = contactPointsFor(config, model);
-  system.contact_model = contact_model.get();
-  system.terrain = terrain.get();
-  system.gains = gainsFor(config, model);
-  const std::unique_ptr<PdTargetSource> target = asInputError(opt.scene + ": controller.gait", [&] { return gaitFor(config, model); });
-  const IntegratorOptions& options = config.integrator;
-  asInputError(opt.scene, [&] { validateSystem(system, options); });
-  const Eigen::VectorXd q0 = initialConfiguration(config, model);
-  const Eigen::VectorXd qd0 = initialVelocity(config, model);
-  StepWorkspace workspace(system, options);
-  SimulationState state = initialState(system, options, q0, qd0, config.dt);
+  Simulation sim = buildSimulation(config, std::move(robot), ContactModelRegistry::withBuiltins());
   if (stop.received()) return interruptedWhile("building the simulation");
 
-  TrajectoryLayout layout;
-  layout.joint_names = model.dof_names;
-  for (const ContactPoint& c : system.contacts) layout.contact_names.push_back(c.name);
-  nlohmann::json resolved = resolvedWithModel(config, model);
-  // The model's own account of its parameters lists the defaults it filled in, not only the keys given.
-  if (nlohmann::json used = contact_model->configuration(); !used.is_null()) resolved["contacts"]["model"] = std::move(used);
-  layout.config_json = resolved.dump(2);
-  layout.string_attributes = {{"robot", model.robot_name},
-                              {"method", methodName(options.method)},
-                              {"contact_model", contact_model->describe()},
-                              {"terrain", terrain->describe()}};
-  layout.number_attributes = {{"dt", config.dt}, {"duration", config.duration}};
-  TrajectoryWriter writer(config.output_file, layout);  // its first chunk only: it grows as the run goes
-
-  Data pose_data(model);
-  Vec3 base_position, base_rpy;
-  // The last completed step, kept while it is not yet a row (output.every > 1) so that a run that
-  // ends early still ends with it.
-  LastStep last;
-  last.q = state.q;
-  last.qd = state.qd;
-  last.wrench = workspace.contact_wrench;
-  auto record = [&](const LastStep& step) {
-    pose_data.base_chart = step.base_chart;
-    forwardKinematics(model, pose_data, step.q);
-    basePose(model, pose_data, base_position, base_rpy);
-    writer.append(step.time, step.q, step.qd, base_position, base_rpy, step.wrench, step.stats);
-  };
-  auto keep = [&](const StepStats& stats) {
-    last.time = state.time;
-    last.q = state.q;
-    last.qd = state.qd;
-    last.base_chart = state.base_chart;
-    last.wrench = workspace.contact_wrench;
-    last.stats = stats;
-    last.recorded = false;
-  };
-  StepStats initial;
-  initial.converged = true;
-  keep(initial);
-  std::string failure, interruption;  // why the run ended early (writer status "failed: ..." or "interrupted ...")
-  const long steps = std::max(1L, std::lround(config.duration / config.dt));
+  TrajectoryWriter writer(config.output_file, trajectoryLayout(sim));  // its first chunk only: it grows as the run goes
+  TrajectoryRecorder recorder(writer, sim);
   ProgressBar bar(stderr, config.duration, ProgressBar::shouldShow(stderr, opt.quiet));
   const auto start = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
-  long done = 0;
-  try {
-    record(last);  // the first row is the initial state
-    last.recorded = true;
-    for (long i = 0; i < steps; ++i) {
-      if (stop.received()) break;
-      const double t0 = state.time;
-      const StepStats stats = advance(system, options, *target, state, config.dt, workspace, stop.flag());
-      if (!stats.converged) {
-        if (stats.status != StepStatus::Cancelled) failure = describeFailure(stats, i + 1, t0, options);
-        break;
-      }
-      ++done;
-      keep(stats);
-      if (done % config.output_every == 0 || done == steps) {
-        record(last);
-        last.recorded = true;
-      }
-      bar.update(static_cast<int>(done), state.time, elapsed());
-    }
-    if (stop.received() && failure.empty() && done < steps)
-      interruption = std::string("by ") + StopSignals::name(stop.received()) + " at t = " + seconds(last.time) + " s";
-    if (!last.recorded) {
-      record(last);  // the last completed step, not the state a failed or interrupted step left
-      last.recorded = true;
-    }
-  } catch (const TrajectoryWriter::OutOfSpace& e) {
-    failure = "stopped at t = " + seconds(last.time) + " s, the disk being full: " + e.what();
-  }
+  sim.addObserver([&](const Simulation& s, const StepStats& stats) {
+    recorder.observe(s, stats);
+    bar.update(static_cast<int>(recorder.completedSteps()), s.time(), elapsed());
+  });
+  const Ending end = runSteps(sim, recorder, stop);
   bar.finish();
   const double wall = elapsed();
-  const long rows = writer.steps();
-  if (!failure.empty() || !interruption.empty()) {
-    if (!failure.empty())
-      writer.fail(failure);
+  const long done = recorder.completedSteps(), rows = writer.steps();
+  if (end.early()) {
+    if (!end.failure.empty())
+      writer.fail(end.failure);
     else
-      writer.interrupt(interruption);
-    std::cerr << "nmdp simulate: " << (failure.empty() ? "interrupted " + interruption : failure) << "; "
+      writer.interrupt(end.interruption);
+    std::cerr << "nmdp simulate: " << (end.failure.empty() ? "interrupted " + end.interruption : end.failure) << "; "
               << config.output_file << " keeps the " << done << " completed steps (" << rows << " rows)\n";
     return 4;
   }
@@ -281,8 +215,8 @@ int runSimulate(const Args& args) {
               << " arrived as the run was finishing; the run is complete\n";
   if (!opt.quiet)
     std::printf("%s: %ld steps, %.3g s simulated in %.3g s (%.3gx real time), %s, dt %g s\n",
-                config.output_file.c_str(), done, state.time, wall, wall > 0 ? state.time / wall : 0.0,
-                methodName(options.method), config.dt);
+                config.output_file.c_str(), done, sim.time(), wall, wall > 0 ? sim.time() / wall : 0.0,
+                methodName(sim.options().method), config.dt);
   return 0;
 }
 

@@ -360,10 +360,10 @@ void TrajectoryWriter::writeStatus(const std::string& status) {
     error("cannot write dataset '/status'");
 }
 
-void TrajectoryWriter::finish() {
-  if (file_ < 0) throw std::logic_error("TrajectoryWriter::finish after finish() or fail()");
+void TrajectoryWriter::endOnce(const std::string& status, const char* too_late) {
+  if (file_ < 0) throw std::logic_error(too_late);
   try {
-    end("complete");
+    end(status);
   } catch (...) {
     closeAll();
     throw;
@@ -371,26 +371,14 @@ void TrajectoryWriter::finish() {
   closeAll();
 }
 
+void TrajectoryWriter::finish() { endOnce("complete", "TrajectoryWriter::finish after finish() or fail()"); }
+
 void TrajectoryWriter::fail(const std::string& reason) {
-  if (file_ < 0) throw std::logic_error("TrajectoryWriter::fail after finish() or fail()");
-  try {
-    end("failed: " + reason);
-  } catch (...) {
-    closeAll();
-    throw;
-  }
-  closeAll();
+  endOnce("failed: " + reason, "TrajectoryWriter::fail after finish() or fail()");
 }
 
 void TrajectoryWriter::interrupt(const std::string& how) {
-  if (file_ < 0) throw std::logic_error("TrajectoryWriter::interrupt after the run ended");
-  try {
-    end("interrupted " + how);
-  } catch (...) {
-    closeAll();
-    throw;
-  }
-  closeAll();
+  endOnce("interrupted " + how, "TrajectoryWriter::interrupt after the run ended");
 }
 
 std::string TrajectoryWriter::readStatus(const std::string& path) {

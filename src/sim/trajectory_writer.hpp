@@ -162,6 +162,8 @@ class TrajectoryWriter {
   void grow();           // check the space, extend by chunk_rows, flush
   void commitPending();  // rows, flush, /steps, flush
   void end(const std::string& status);  // commit, shrink, flush, status, flush, close
+  // end(status) once: std::logic_error(too_late) if the run already ended; the file is closed after.
+  void endOnce(const std::string& status, const char* too_late);
   void flushFile();
   void writeStatus(const std::string& status);
   void writeSteps(long steps);

@@ -7,16 +7,15 @@
 #include <nlohmann/json.hpp>
 
 #include "contact_models/coulomb_model.hpp"
+#include "contact_models/registry.hpp"
 #include "control/default_gains.hpp"
 #include "control/gait.hpp"
-#include "config/json_params.hpp"
-#include "sim/scene.hpp"
 #include "multibody/crba.hpp"
 #include "multibody/feet.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/urdf_loader.hpp"
-#include "solver/integrator.hpp"
-#include "terrain/terrain_factory.hpp"
+#include "sim/scene.hpp"
+#include "sim/simulation.hpp"
 #include "test_support.hpp"
 
 namespace nmdp {
@@ -160,43 +159,27 @@ TEST(DefaultGains, A1TrotsUprightAtOneMillisecond) {
   const nlohmann::json scene = {{"robot", {{"urdf", test::sharedPath("robots/a1/urdf/a1.urdf")}, {"base", "floating"}}},
                                 {"contacts", {{"points", "auto"}, {"model", {{"type", "coulomb"}}}}},
                                 {"terrain", {{"type", "plane"}}},
-                                {"controller", {{"gait", {{"type", "trot"}}}}}};
-  const SceneConfig config = parseScene(scene, scene_path);
-  const Model model = loadUrdf(config.urdf, urdfOptionsFor(config));
-  validateAgainstModel(config, model);
-  const std::unique_ptr<ContactModel> contact_model = makeCoulombModel(config.contact_model, ConfigContext{scene_path, ""});
-  const std::unique_ptr<Terrain> terrain = makeTerrain(config.terrain, ConfigContext{scene_path, ""});
-  System system;
-  system.model = &model;
-  system.contacts = contactPointsFor(config, model);
-  system.contact_model = contact_model.get();
-  system.terrain = terrain.get();
-  system.gains = gainsFor(config, model);
-  EXPECT_EQ(system.gains.kd, defaultPdGains(model, initialConfiguration(config, model)).kd);
-  const std::unique_ptr<PdTargetSource> target = gaitFor(config, model);
-  IntegratorOptions options = config.integrator;
-  EXPECT_EQ(options.kinetic_energy, KineticEnergyMeasure::FullBodyPd);
+                                {"integrator", {{"dt", 0.001}}},
+                                {"controller", {{"gait", {{"type", "trot"}}}}},
+                                {"duration", 3.0}};
+  ContactModelRegistry models;  // Coulomb only: this test links no libtorch
+  models.add("coulomb", kCoulombParameters, makeCoulombModel);
+  Simulation sim = buildSimulation(parseScene(scene, scene_path), models);
+  EXPECT_EQ(sim.system().gains.kd, defaultPdGains(sim.model(), sim.initialConfiguration()).kd);
+  EXPECT_EQ(sim.options().kinetic_energy, KineticEnergyMeasure::FullBodyPd);
+  ASSERT_EQ(sim.dt(), 0.001);
 
-  const double dt = 0.001, duration = 3.0;
-  StepWorkspace ws(system, options);
-  SimulationState state = initialState(system, options, initialConfiguration(config, model), initialVelocity(config, model), dt);
-  Data data(model);
   Vec3 p0, p, rpy;
-  auto pose = [&](Vec3& position) {
-    data.base_chart = state.base_chart;
-    forwardKinematics(model, data, state.q);
-    basePose(model, data, position, rpy);
-  };
-  pose(p0);
-  const long steps = std::lround(duration / dt);
+  sim.basePose(p0, rpy);
+  const long steps = sim.scheduledSteps();
   for (long i = 1; i <= steps; ++i) {
-    const StepStats stats = advance(system, options, *target, state, dt, ws);
+    const StepStats stats = sim.step();
     ASSERT_TRUE(stats.converged) << "step " << i << ": " << toString(stats.status);
-    pose(p);
-    ASSERT_GT(p.z(), 0.5 * p0.z()) << "t = " << i * dt;
-    ASSERT_LT(p.z(), 1.5 * p0.z()) << "t = " << i * dt;
-    ASSERT_LT(std::abs(rpy.x()), 1.0) << "roll at t = " << i * dt;
-    ASSERT_LT(std::abs(rpy.y()), 1.0) << "pitch at t = " << i * dt;
+    sim.basePose(p, rpy);
+    ASSERT_GT(p.z(), 0.5 * p0.z()) << "t = " << sim.time();
+    ASSERT_LT(p.z(), 1.5 * p0.z()) << "t = " << sim.time();
+    ASSERT_LT(std::abs(rpy.x()), 1.0) << "roll at t = " << sim.time();
+    ASSERT_LT(std::abs(rpy.y()), 1.0) << "pitch at t = " << sim.time();
   }
   EXPECT_GT(p.x() - p0.x(), 0.5) << "the trot walks forward";
 }

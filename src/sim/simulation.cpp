@@ -1,0 +1,140 @@
+#include "sim/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include "common/input_error.hpp"
+#include "multibody/kinematics.hpp"
+#include "multibody/urdf_loader.hpp"
+#include "terrain/terrain_factory.hpp"
+
+namespace nmdp {
+
+struct Simulation::Parts {
+  Parts(const SceneConfig& scene_config, Model robot) : scene(scene_config), model(std::move(robot)), pose_data(model) {}
+
+  SceneConfig scene;
+  Model model;
+  std::unique_ptr<ContactModel> contact_model;
+  std::unique_ptr<Terrain> terrain;
+  std::unique_ptr<PdTargetSource> targets;
+  System system;  // refers to the parts above
+  Eigen::VectorXd q0, qd0;
+  std::unique_ptr<StepWorkspace> workspace;
+  SimulationState state;
+  nlohmann::json resolved;
+  std::vector<Observer> observers;
+  Data pose_data;  // basePose's kinematics, apart from the integrator's
+};
+
+namespace {
+
+// Library builders report unusable values with std::invalid_argument; here they become input
+// errors naming the scene (and the key, where one is to blame).
+template <class F>
+auto asInputError(const std::string& where, F&& f) -> decltype(f()) {
+  try {
+    return f();
+  } catch (const std::invalid_argument& e) {
+    throw InputError(where + ": " + e.what());
+  }
+}
+
+}  // namespace
+
+Model loadSceneRobot(const SceneConfig& scene) {
+  Model model = loadUrdf(scene.urdf, urdfOptionsFor(scene));
+  validateAgainstModel(scene, model);
+  return model;
+}
+
+Simulation buildSimulation(const SceneConfig& scene, const ContactModelRegistry& models) {
+  return buildSimulation(scene, loadSceneRobot(scene), models);
+}
+
+Simulation buildSimulation(const SceneConfig& scene, Model robot, const ContactModelRegistry& models) {
+  auto p = std::make_unique<Simulation::Parts>(scene, std::move(robot));
+  const SceneConfig& config = p->scene;
+  p->contact_model = models.build(config.contact_model, ConfigContext{config.path + ": contacts.model", config.base_dir});
+  p->terrain = makeTerrain(config.terrain, ConfigContext{config.path + ": terrain", config.base_dir});
+  p->system.model = &p->model;
+  p->system.contacts = contactPointsFor(config, p->model);
+  p->system.contact_model = p->contact_model.get();
+  p->system.terrain = p->terrain.get();
+  p->system.gains = gainsFor(config, p->model);
+  p->targets = asInputError(config.path + ": controller.gait", [&] { return gaitFor(config, p->model); });
+  asInputError(config.path, [&] { validateSystem(p->system, config.integrator); });
+  p->q0 = initialConfiguration(config, p->model);
+  p->qd0 = initialVelocity(config, p->model);
+  p->workspace = std::make_unique<StepWorkspace>(p->system, config.integrator);
+  p->state = initialState(p->system, config.integrator, p->q0, p->qd0, config.dt);
+  p->resolved = resolvedWithModel(config, p->model);
+  // The model's own account of its parameters lists the defaults it filled in, not only the keys given.
+  if (nlohmann::json used = p->contact_model->configuration(); !used.is_null()) p->resolved["contacts"]["model"] = std::move(used);
+  return Simulation(std::move(p));
+}
+
+Simulation::Simulation(std::unique_ptr<Parts> parts) : parts_(std::move(parts)) {}
+Simulation::Simulation(Simulation&&) noexcept = default;
+Simulation& Simulation::operator=(Simulation&&) noexcept = default;
+Simulation::~Simulation() = default;
+
+StepStats Simulation::step(CancelFlag cancel) {
+  Parts& p = *parts_;
+  const StepStats stats = advance(p.system, p.scene.integrator, *p.targets, p.state, p.scene.dt, *p.workspace, cancel);
+  if (stats.converged)
+    for (const Observer& observer : p.observers) observer(*this, stats);
+  return stats;
+}
+
+void Simulation::addObserver(Observer observer) { parts_->observers.push_back(std::move(observer)); }
+
+double Simulation::time() const { return parts_->state.time; }
+double Simulation::dt() const { return parts_->scene.dt; }
+long Simulation::scheduledSteps() const { return std::max(1L, std::lround(parts_->scene.duration / parts_->scene.dt)); }
+const SimulationState& Simulation::state() const { return parts_->state; }
+
+void Simulation::setState(const SimulationState& state) {
+  const Parts& p = *parts_;
+  const Eigen::Index n = p.model.nq;
+  const size_t contacts = p.system.contacts.size();
+  if (state.q.size() != n || state.qd.size() != n || state.q_prev.size() != n || state.qd_prev.size() != n ||
+      state.contact_active.size() != contacts || state.w.size() != p.state.w.size())
+    throw std::invalid_argument("Simulation::setState: expected q, q̇, q_prev and q̇_prev of size " + std::to_string(n) +
+                                ", contact_active of size " + std::to_string(contacts) + " and w of size " +
+                                std::to_string(p.state.w.size()));
+  parts_->state = state;
+  // Warm starts carried over from the previous step belong to another state: start them afresh.
+  parts_->workspace = std::make_unique<StepWorkspace>(p.system, p.scene.integrator);
+}
+
+void Simulation::basePose(Vec3& position, Vec3& rpy) const {
+  Parts& p = *parts_;
+  p.pose_data.base_chart = p.state.base_chart;
+  forwardKinematics(p.model, p.pose_data, p.state.q);
+  nmdp::basePose(p.model, p.pose_data, position, rpy);
+}
+
+const std::vector<Vec6>& Simulation::contactWrenches() const { return parts_->workspace->contact_wrench; }
+
+const PdTargetSource& Simulation::targets() const { return *parts_->targets; }
+
+void Simulation::setTargets(std::unique_ptr<PdTargetSource> targets) {
+  if (!targets) throw std::invalid_argument("Simulation::setTargets: no target source");
+  parts_->targets = std::move(targets);
+}
+
+const SceneConfig& Simulation::scene() const { return parts_->scene; }
+const nlohmann::json& Simulation::resolvedScene() const { return parts_->resolved; }
+const Model& Simulation::model() const { return parts_->model; }
+const System& Simulation::system() const { return parts_->system; }
+const ContactModel& Simulation::contactModel() const { return *parts_->contact_model; }
+const Terrain& Simulation::terrain() const { return *parts_->terrain; }
+const IntegratorOptions& Simulation::options() const { return parts_->scene.integrator; }
+const Eigen::VectorXd& Simulation::initialConfiguration() const { return parts_->q0; }
+const Eigen::VectorXd& Simulation::initialVelocity() const { return parts_->qd0; }
+const StepWorkspace& Simulation::workspace() const { return *parts_->workspace; }
+
+}  // namespace nmdp
