@@ -3,11 +3,14 @@
 // flat and tilted ground (feet 1-12 mm deep, tilted legs) and the project's hand-made RBF sand
 // model. Also: V is left as it was, the model is never asked for a derivative, and contacts in the
 // air give zero.
+#include <gtest/gtest-spi.h>
+
 #include <random>
 
 #include "contact_models/coulomb_model.hpp"
 #include "contact_models/finite_difference_derivative.hpp"
 #include "contact_models/rbf_model.hpp"
+#include "contact_derivative_check.hpp"
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
 
@@ -53,8 +56,8 @@ std::vector<ContactFrame> feet(const PlaneTerrain& terrain, double radius, std::
   return frames;
 }
 
-// Worst error of the finite-difference dV/dξ against the analytic one, relative to each contact's
-// largest analytic entry.
+// Worst error of the finite-difference dV/dξ against the analytic one (contact_derivative_check.hpp),
+// relative to each contact's largest entry (no floor: a derivative that vanishes in the ground fails).
 double worstError(const ContactModel& model, const PlaneTerrain& terrain, double radius, unsigned seed) {
   std::mt19937 rng(seed);
   const std::vector<ContactFrame> frames = feet(terrain, radius, rng);
@@ -64,31 +67,25 @@ double worstError(const ContactModel& model, const PlaneTerrain& terrain, double
   for (ContactWrenches& w : estimate) w.resize(K);
   model.evaluate(frames, terrain, exact, true);
   model.evaluate(frames, terrain, estimate, false);
-  const std::vector<Mat6X> V_before = [&] {
-    std::vector<Mat6X> v;
-    for (const ContactWrenches& w : estimate) v.push_back(w.V);
-    return v;
-  }();
+  std::vector<Mat6X> V_before;
+  for (const ContactWrenches& w : estimate) V_before.push_back(w.V);
   FiniteDifferenceDerivative fd(static_cast<int>(frames.size()), K);
   fd.evaluate(ValuesOnly(model), frames, terrain, estimate);
-  double worst = 0.0;
-  for (size_t c = 0; c < frames.size(); ++c) {
+  for (size_t c = 0; c < frames.size(); ++c)
     EXPECT_EQ((estimate[c].V - V_before[c]).cwiseAbs().maxCoeff(), 0.0) << "V must be left as it was";
-    double scale = 0.0;
-    for (const Mat6X& d : exact[c].dV) scale = std::max(scale, d.cwiseAbs().maxCoeff());
-    if (c == frames.size() - 1) {
-      // In the air: both zero (Coulomb keeps ζ, a constant: its derivative is zero too).
-      for (int i = 0; i < 6; ++i) EXPECT_LE(estimate[c].dV[i].cwiseAbs().maxCoeff(), 1e-9 * std::max(scale, 1.0));
-      continue;
-    }
-    EXPECT_GT(scale, 0.0) << "contact " << c << " is in the ground: dV/dξ must not vanish";
-    for (int i = 0; i < 6; ++i) {
-      const double e = (estimate[c].dV[i] - exact[c].dV[i]).cwiseAbs().maxCoeff() / scale;
-      EXPECT_LT(e, 1e-6) << "contact " << c << ", ξ_" << i;
-      worst = std::max(worst, e);
-    }
-  }
-  return worst;
+  // In the air (the last contact): both zero (Coulomb keeps ζ, a constant: its derivative is zero too).
+  const double air_scale = largestDerivative(exact.back(), 0, VertexDerivativeCheck::Scale::PerContact);
+  for (int i = 0; i < 6; ++i)
+    EXPECT_LE(estimate.back().dV[i].cwiseAbs().maxCoeff(), 1e-9 * std::max(air_scale, 1.0));
+  exact.pop_back();
+  estimate.pop_back();
+  for (size_t c = 0; c < exact.size(); ++c)
+    EXPECT_GT(largestDerivative(exact[c], 0, VertexDerivativeCheck::Scale::PerContact), 0.0)
+        << "contact " << c << " is in the ground: dV/dξ must not vanish";
+  VertexDerivativeCheck check;
+  check.tolerance = 1e-6;
+  check.scale_floor = 0.0;
+  return expectVertexDerivativesMatch(exact, estimate, check, "in the ground");
 }
 
 TEST(FiniteDifferenceDerivative, MatchesTheCoulombConeOnFlatAndTiltedGround) {
@@ -107,6 +104,35 @@ TEST(FiniteDifferenceDerivative, MatchesTheHandmadeSandModel) {
     const double e = worstError(*model, PlaneTerrain(), 0.02, seed);
     std::printf("  hand-made sand RBF, seed %u: worst relative error %.2e\n", seed, e);
   }
+}
+
+// Reports the inner model's derivative 1e-5 too large (relative): what the shared checker must catch.
+class SlightlyWrongDerivative : public ContactModel {
+ public:
+  explicit SlightlyWrongDerivative(const ContactModel& inner) : inner_(inner) {}
+  int vertexCount() const override { return inner_.vertexCount(); }
+  DerivativeSupport derivative() const override { return DerivativeSupport::Analytic; }
+  std::string describe() const override { return "slightly wrong"; }
+  void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
+                bool with_derivatives) const override {
+    inner_.evaluate(frames, terrain, out, with_derivatives);
+    if (with_derivatives)
+      for (ContactWrenches& w : out)
+        for (Mat6X& d : w.dV) d *= 1.0 + 1e-5;
+  }
+
+ private:
+  const ContactModel& inner_;
+};
+
+TEST(VertexDerivativeCheck, PassesTheExactDerivativeAndCatchesAWrongOne) {
+  const CoulombModel model;
+  const PlaneTerrain terrain(Vec3(0.2, -0.1, 1.0), 0.03);
+  std::mt19937 rng(3);
+  const std::vector<ContactFrame> frames = feet(terrain, 0.02, rng);
+  const VertexDerivativeCheck check;  // 1e-6 m and rad, 1e-6 relative to the contact's largest entry
+  EXPECT_LT(checkVertexDerivative(model, frames, terrain, check).worst, 1e-6);
+  EXPECT_NONFATAL_FAILURE(checkVertexDerivative(SlightlyWrongDerivative(model), frames, terrain, check), "xi_");
 }
 
 TEST(FiniteDifferenceDerivative, PerturbedFrameRotatesAboutTheCentreAndTranslates) {
