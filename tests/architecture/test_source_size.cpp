@@ -256,6 +256,16 @@ std::string lines(int n, const std::string& line) {
   return s;
 }
 
+// The spans found are `expected` (name, first line, last line), in order.
+void expectSpans(const std::vector<FunctionSpan>& found, const std::vector<FunctionSpan>& expected) {
+  ASSERT_EQ(found.size(), expected.size());
+  for (size_t i = 0; i < found.size(); ++i) {
+    EXPECT_EQ(found[i].name, expected[i].name) << i;
+    EXPECT_EQ(found[i].first_line, expected[i].first_line) << expected[i].name;
+    EXPECT_EQ(found[i].last_line, expected[i].last_line) << expected[i].name;
+  }
+}
+
 TEST(SourceSizeScanner, CountsLines) {
   EXPECT_EQ(lineCount(""), 0);
   EXPECT_EQ(lineCount("a\nb\n"), 2);
@@ -274,17 +284,8 @@ TEST(SourceSizeScanner, FindsCppFunctionsAndTheirLengths) {
                            "const std::vector<int> v = {1, 2, 3};\n"         // 15
                            "auto h(int y) -> int {\n  return y;\n}\n"        // 16-18
                            "}  // namespace nmdp\n";                         // 19
-  const std::vector<FunctionSpan> found = cppFunctions(text);
-  ASSERT_EQ(found.size(), 4u);
-  EXPECT_EQ(found[0].name, "f");
-  EXPECT_EQ(found[0].first_line, 2);
-  EXPECT_EQ(found[0].last_line, 7);
-  EXPECT_EQ(found[1].name, "g");
-  EXPECT_EQ(found[1].lines(), 1);
-  EXPECT_EQ(found[2].first_line, 11);  // the constructor, opened after its initializer list's b_{2}
-  EXPECT_EQ(found[2].last_line, 12);
-  EXPECT_EQ(found[3].name, "h");
-  EXPECT_EQ(found[3].lines(), 3);
+  // The constructor's body opens after its initializer list's b_{2}.
+  expectSpans(cppFunctions(text), {{"f", 2, 7}, {"g", 10, 10}, {"A", 11, 12}, {"h", 16, 18}});
 }
 
 TEST(SourceSizeScanner, IgnoresBracesInCommentsStringsAndPreprocessorLines) {
@@ -297,22 +298,14 @@ TEST(SourceSizeScanner, IgnoresBracesInCommentsStringsAndPreprocessorLines) {
                            "  int n = 1'000;\n"
                            "}\n"
                            "void g() {}\n";
-  const std::vector<FunctionSpan> found = cppFunctions(text);
-  ASSERT_EQ(found.size(), 2u);
-  EXPECT_EQ(found[0].name, "f");
-  EXPECT_EQ(found[0].first_line, 2);
-  EXPECT_EQ(found[0].last_line, 8);
-  EXPECT_EQ(found[1].name, "g");
+  expectSpans(cppFunctions(text), {{"f", 2, 8}, {"g", 9, 9}});
 }
 
 TEST(SourceSizeScanner, LambdasAndBlocksBelongToTheirFunction) {
   const std::string text = "void outer() {\n" + lines(3, "  auto l = [&](int x) { return x; };") +
                            "  for (;;) {\n  }\n}\n"
                            "extern \"C\" int LLVMFuzzerTestOneInput(const uint8_t* d, size_t n) {\n  return 0;\n}\n";
-  const std::vector<FunctionSpan> found = cppFunctions(text);
-  ASSERT_EQ(found.size(), 2u);
-  EXPECT_EQ(found[0].lines(), 7);
-  EXPECT_EQ(found[1].name, "LLVMFuzzerTestOneInput");
+  expectSpans(cppFunctions(text), {{"outer", 1, 7}, {"LLVMFuzzerTestOneInput", 8, 10}});
 }
 
 TEST(SourceSizeScanner, FlagsAFunctionOverTheLimit) {
@@ -339,15 +332,7 @@ TEST(SourceSizeScanner, FindsPythonFunctions) {
                            "    async def h(self):\n"  // 14
                            "        pass\n"            // 15
                            "X = 1\n";                  // 16
-  const std::vector<FunctionSpan> found = pythonFunctions(text);
-  ASSERT_EQ(found.size(), 3u);
-  EXPECT_EQ(found[0].name, "f");
-  EXPECT_EQ(found[0].first_line, 2);
-  EXPECT_EQ(found[0].last_line, 9);
-  EXPECT_EQ(found[1].name, "g");
-  EXPECT_EQ(found[1].lines(), 2);
-  EXPECT_EQ(found[2].name, "h");
-  EXPECT_EQ(found[2].last_line, 15);
+  expectSpans(pythonFunctions(text), {{"f", 2, 9}, {"g", 12, 13}, {"h", 14, 15}});
 }
 
 }  // namespace

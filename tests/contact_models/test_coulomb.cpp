@@ -20,13 +20,7 @@ ConfigContext context() { return {"scene.json: contacts.model", ""}; }
 CoulombModel defaultModel() { return CoulombModel(CoulombParameters{}); }
 
 CoulombParameters coulombParameters(double mu, int K, double k, double p, double zeta) {
-  CoulombParameters c;
-  c.mu = mu;
-  c.K = K;
-  c.k = k;
-  c.p = p;
-  c.zeta = zeta;
-  return c;
+  return CoulombParameters{mu, K, k, p, zeta};
 }
 
 ContactWrenches evaluateOne(const ContactModel& model, const ContactFrame& frame, const Terrain& terrain,
