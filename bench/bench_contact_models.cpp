@@ -1,6 +1,6 @@
-// Contact models (targets, one core): V and dV/dξ for 4 contacts.
-//   Coulomb < 1 µs, the published RBF model (103 centres × 26 vertices) < 20 µs,
-//   a 2×64 MLP with autograd < 100 µs.
+// Contact models, one core: V and dV/dξ for 4 contacts. Targets: Coulomb < 1 µs, the published RBF
+// model (103 centres × 26 vertices) < 20 µs, a 2×64 MLP with autograd < 100 µs (each Jacobian
+// scheme, and its feature function alone with dW/df for 4 rows, to see what the placement costs).
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -40,6 +40,18 @@ void run(benchmark::State& state, const ContactModel& model, double radius, bool
   }
 }
 
+// The MLP's feature function alone: W, dW/dφ and dW/dβ for 4 rows (φ, β) of the data's range.
+void runFeatures(benchmark::State& state, const MlpFunction& function) {
+  Eigen::MatrixX2d features(4, 2);
+  features << -0.05, 0.3, -0.01, -0.4, 0.02, 0.05, -0.08, 1.0;
+  Eigen::MatrixXd W, dphi, dbeta;
+  for (auto _ : state) {
+    function.evaluate(features, W, &dphi, &dbeta);
+    benchmark::DoNotOptimize(W.data());
+    benchmark::ClobberMemory();
+  }
+}
+
 void registerModel(const std::string& name, std::shared_ptr<ContactModel> model, double radius) {
   benchmark::RegisterBenchmark((name + "/V").c_str(), [model, radius](benchmark::State& s) { run(s, *model, radius, false); });
   benchmark::RegisterBenchmark((name + "/V+dV").c_str(), [model, radius](benchmark::State& s) { run(s, *model, radius, true); });
@@ -54,10 +66,15 @@ int main(int argc, char** argv) {
     registerModel("RbfPublished4", makeRbfModel({{"file", published}}, ctx), 0.0);
   else
     std::cerr << "../shared is absent (" << published << "): skipping the published RBF model\n";
-  auto mlp = std::make_shared<PlanarWrenchModel>(
-      std::make_shared<MlpFunction>(randomMlpParameters(2, 64, 26, MlpActivation::Tanh, 7)),
-      PlanarGeometry{0.1572, 0.1, 0.02}, "mlp");
-  registerModel("Mlp2x64_4", mlp, 0.0);
+  // "Mlp2x64_4" is forward-mode autograd (the default); the other schemes carry their name.
+  for (MlpJacobian jacobian : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
+    auto function = std::make_shared<MlpFunction>(randomMlpParameters(2, 64, 26, MlpActivation::Tanh, 7), jacobian);
+    const std::string scheme = jacobian == MlpJacobian::ForwardMode ? "" : std::string("_") + mlpJacobianName(jacobian);
+    registerModel("Mlp2x64_4" + scheme,
+                  std::make_shared<PlanarWrenchModel>(function, PlanarGeometry{0.1572, 0.1, 0.02}, "mlp"), 0.0);
+    benchmark::RegisterBenchmark(("MlpFeatures2x64_4" + scheme + "/W+dW").c_str(),
+                                 [function](benchmark::State& s) { runFeatures(s, *function); });
+  }
   benchmark::Initialize(&argc, argv);
   benchmark::RunSpecifiedBenchmarks();
   benchmark::Shutdown();

@@ -7,8 +7,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace nmdp;
-  fuzz::Scratch& scratch = fuzz::Scratch::get();
-  scratch.clear();
+  fuzz::Scratch& scratch = fuzz::Scratch::fresh();
   const std::string path = scratch.write("data.h5", "");
   fuzz::writeHdf5FromText(fuzz::asText(data, size), path);
   fuzz::acceptingInputErrors([&] { fuzz::fitIfSmall(readForceDataset(path), FitConfig{}, path); });

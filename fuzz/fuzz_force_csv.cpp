@@ -7,12 +7,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace nmdp;
-  fuzz::Scratch& scratch = fuzz::Scratch::get();
-  scratch.clear();
-  const std::vector<std::string> files = fuzz::split(fuzz::asText(data, size), 3);
-  scratch.write("features.csv", files[0]);
-  scratch.write("wrench_samples.csv", files[1]);
-  scratch.write("scalars.txt", files[2]);
+  fuzz::Scratch& scratch = fuzz::Scratch::fresh();
+  scratch.writeParts(fuzz::asText(data, size), {"features.csv", "wrench_samples.csv", "scalars.txt"});
   fuzz::acceptingInputErrors([&] { fuzz::fitIfSmall(importSandSamplesCsv(scratch.dir()), FitConfig{}, scratch.dir()); });
   return 0;
 }

@@ -5,8 +5,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace nmdp;
-  fuzz::Scratch& scratch = fuzz::Scratch::get();
-  scratch.clear();
+  fuzz::Scratch& scratch = fuzz::Scratch::fresh();
   const std::string path = scratch.write("heights.csv", fuzz::asText(data, size));
   fuzz::acceptingInputErrors([&] {
     const std::unique_ptr<Terrain> terrain =

@@ -7,8 +7,7 @@
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace nmdp;
   static const Model model = loadUrdf(fuzz::sourcePath("models/quadruped/quadruped.urdf"));
-  fuzz::Scratch& scratch = fuzz::Scratch::get();
-  scratch.clear();
+  fuzz::Scratch& scratch = fuzz::Scratch::fresh();
   const std::string file = scratch.write("keyframes.txt", fuzz::asText(data, size));
   for (const bool cyclic : {false, true}) {
     fuzz::acceptingInputErrors([&] {

@@ -6,11 +6,8 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace nmdp;
-  fuzz::Scratch& scratch = fuzz::Scratch::get();
-  scratch.clear();
-  const std::vector<std::string> files = fuzz::split(fuzz::asText(data, size), 2);
-  scratch.write("inputs.txt", files[0]);
-  scratch.write("weights.txt", files[1]);
+  fuzz::Scratch& scratch = fuzz::Scratch::fresh();
+  scratch.writeParts(fuzz::asText(data, size), {"inputs.txt", "weights.txt"});
   fuzz::acceptingInputErrors([&] { fuzz::probeContactModel({{"type", "rbf"}, {"file", scratch.dir()}, {"format", "published"}}); });
   return 0;
 }

@@ -4,8 +4,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace nmdp;
-  fuzz::Scratch& scratch = fuzz::Scratch::get();
-  scratch.clear();
+  fuzz::Scratch& scratch = fuzz::Scratch::fresh();
   const std::string path = scratch.write("foot.stl", fuzz::asText(data, size));
   fuzz::acceptingInputErrors([&] { readStl(path); });
   return 0;

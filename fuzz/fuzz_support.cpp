@@ -40,6 +40,17 @@ Scratch& Scratch::get() {
   return scratch;
 }
 
+Scratch& Scratch::fresh() {
+  Scratch& scratch = get();
+  scratch.clear();
+  return scratch;
+}
+
+void Scratch::writeParts(const std::string& text, const std::vector<std::string>& names) {
+  const std::vector<std::string> parts = split(text, names.size());
+  for (size_t i = 0; i < names.size(); ++i) write(names[i], parts[i]);
+}
+
 std::string Scratch::write(const std::string& name, const std::string& content) {
   const std::string p = path(name);
   std::ofstream out(p, std::ios::binary | std::ios::trunc);

@@ -25,8 +25,12 @@ std::vector<std::string> split(const std::string& text, size_t parts, const std:
 class Scratch {
  public:
   static Scratch& get();
+  // The folder emptied of the previous input's files: where every target starts.
+  static Scratch& fresh();
   // Writes `content` to `name` in the folder and returns the absolute path.
   std::string write(const std::string& name, const std::string& content);
+  // Splits `text` at the lines "@@" (split()) into one file per name, in order.
+  void writeParts(const std::string& text, const std::vector<std::string>& names);
   std::string path(const std::string& name) const { return dir_ + "/" + name; }
   const std::string& dir() const { return dir_; }
   void clear();  // removes what write() created

@@ -6,8 +6,7 @@
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   using namespace nmdp;
-  fuzz::Scratch& scratch = fuzz::Scratch::get();
-  scratch.clear();
+  fuzz::Scratch& scratch = fuzz::Scratch::fresh();
   const std::string path = scratch.write("robot.urdf", fuzz::asText(data, size));
   for (BaseType base : {BaseType::Floating, BaseType::Fixed}) {
     fuzz::acceptingInputErrors([&] {

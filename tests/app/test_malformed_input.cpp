@@ -44,22 +44,8 @@ constexpr bool kSanitized = false;
 // `nmdp ARGS` killed after `seconds` and, outside sanitizer builds, with 2 GiB of address space
 // (libtorch and the robot need about 0.5).
 CliResult runBounded(const std::vector<std::string>& args, const TempDir& dir, int seconds = 20) {
-  std::vector<std::string> wrapped = args;
   const std::string limit = kSanitized ? "" : "ulimit -v 2097152; ";
-  // runNmdp quotes every argument; the limits go through a shell that then executes nmdp.
-  std::string cmd = limit + "exec timeout -s KILL " + std::to_string(seconds) + " " + shellQuote(NMDP_BINARY);
-  for (const std::string& a : args) cmd += " " + shellQuote(a);
-  static int counter = 0;
-  const std::string out = dir.file("bounded_out_" + std::to_string(counter));
-  const std::string err = dir.file("bounded_err_" + std::to_string(counter++));
-  const std::string full = "sh -c " + shellQuote(cmd) + " >" + shellQuote(out) + " 2>" + shellQuote(err) + " </dev/null";
-  const int status = std::system(full.c_str());
-  CliResult r;
-  r.exited = status != -1 && WIFEXITED(status);
-  if (r.exited) r.exit_code = WEXITSTATUS(status);
-  r.out = readText(out);
-  r.err = readText(err);
-  return r;
+  return runNmdp(args, dir, limit + "exec timeout -s KILL " + std::to_string(seconds));
 }
 
 // Exit status 1 (137 would be the timeout's SIGKILL), one line "nmdp <command>: error: ..." holding

@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <optional>
 #include <regex>
@@ -12,9 +11,15 @@
 #include <string>
 #include <vector>
 
+#include "source_tree.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
+
+using nmdp::test::readText;
+using nmdp::test::sourceFiles;
+using nmdp::test::sourceRoot;
 
 // Rank of each layer folder; a folder may include only strictly lower ranks (and itself). io and
 // multibody share a rank and so may not include each other; so do control and training.
@@ -82,28 +87,15 @@ std::vector<Violation> checkIncludes(const fs::path& root, const std::string& fi
   return out;
 }
 
-fs::path sourceRoot() { return fs::path(NMDP_SOURCE_DIR); }
-
-std::string readText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
 TEST(Layers, NoIncludeGoesUpALayer) {
   const fs::path root = sourceRoot();
-  int files = 0;
+  const std::vector<std::string> files = sourceFiles(root, {"src", "contact_models", "training"}, {".cpp", ".hpp"});
   std::vector<Violation> all;
-  for (const char* top : {"src", "contact_models", "training"}) {
-    for (const auto& entry : fs::recursive_directory_iterator(root / top)) {
-      const std::string ext = entry.path().extension().string();
-      if (!entry.is_regular_file() || (ext != ".cpp" && ext != ".hpp")) continue;
-      const std::string relative = fs::relative(entry.path(), root).generic_string();
-      auto found = checkIncludes(root, relative, readText(entry.path()));
-      all.insert(all.end(), found.begin(), found.end());
-      ++files;
-    }
+  for (const std::string& relative : files) {
+    auto found = checkIncludes(root, relative, readText(root / relative));
+    all.insert(all.end(), found.begin(), found.end());
   }
-  EXPECT_GT(files, 100) << "the source tree was not found at " << root;
+  EXPECT_GT(files.size(), 100u) << "the source tree was not found at " << root;
   for (const Violation& v : all) ADD_FAILURE() << v.file << ": #include \"" << v.include << "\": " << v.why;
 }
 

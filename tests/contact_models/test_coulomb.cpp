@@ -7,58 +7,21 @@
 
 #include "contact_models/coulomb_model.hpp"
 #include "common/input_error.hpp"
+#include "contact_derivative_check.hpp"
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
+#include "test_terrains.hpp"
 
 namespace nmdp::test {
 namespace {
 
-// z = a x² + b y² with the vertical distance φ = z − h(x, y), as heightfields do (DESIGN.md §8):
-// ∇φ = (−2a x, −2b y, 1), n = ∇φ/‖∇φ‖, ∂n/∂p = (I − n nᵀ) ∇²φ / ‖∇φ‖.
-class ParaboloidTerrain : public Terrain {
- public:
-  ParaboloidTerrain(double a, double b) : a_(a), b_(b) {}
-  void query(const Vec3& p, TerrainQuery& out, bool derivatives) const override {
-    const Vec3 g(-2 * a_ * p.x(), -2 * b_ * p.y(), 1.0);
-    const double norm = g.norm();
-    out.distance = p.z() - a_ * p.x() * p.x() - b_ * p.y() * p.y();
-    out.normal = g / norm;
-    if (derivatives) {
-      out.gradient = g;
-      const Mat3 hessian = Vec3(-2 * a_, -2 * b_, 0.0).asDiagonal();
-      out.normal_jacobian = (Mat3::Identity() - out.normal * out.normal.transpose()) * hessian / norm;
-    }
-  }
-  std::string describe() const override { return "test paraboloid"; }
-
- private:
-  double a_, b_;
-};
-
-// A ball of radius R centred at o, the ground outside it: φ = ‖p − o‖ − R, n = (p − o)/‖p − o‖.
-class BallTerrain : public Terrain {
- public:
-  BallTerrain(const Vec3& centre, double R) : o_(centre), R_(R) {}
-  void query(const Vec3& p, TerrainQuery& out, bool derivatives) const override {
-    const Vec3 v = p - o_;
-    const double norm = v.norm();
-    out.distance = norm - R_;
-    out.normal = v / norm;
-    if (derivatives) {
-      out.gradient = out.normal;
-      out.normal_jacobian = (Mat3::Identity() - out.normal * out.normal.transpose()) / norm;
-    }
-  }
-  std::string describe() const override { return "test ball"; }
-
- private:
-  Vec3 o_;
-  double R_;
-};
-
 ConfigContext context() { return {"scene.json: contacts.model", ""}; }
 
 CoulombModel defaultModel() { return CoulombModel(CoulombParameters{}); }
+
+CoulombParameters coulombParameters(double mu, int K, double k, double p, double zeta) {
+  return CoulombParameters{mu, K, k, p, zeta};
+}
 
 ContactWrenches evaluateOne(const ContactModel& model, const ContactFrame& frame, const Terrain& terrain,
                             bool derivatives) {
@@ -67,8 +30,6 @@ ContactWrenches evaluateOne(const ContactModel& model, const ContactFrame& frame
   model.evaluate({frame}, terrain, out, derivatives);
   return out[0];
 }
-
-Eigen::VectorXd flatten(const Mat6X& V) { return Eigen::Map<const Eigen::VectorXd>(V.data(), V.size()); }
 
 // A frame whose sphere of radius r penetrates `terrain` by `depth` (negative: hovers above it) at
 // horizontal position (x, y), found by moving the centre along z (φ is monotone in z for these
@@ -89,8 +50,8 @@ ContactFrame frameAt(const Terrain& terrain, double x, double y, double r, doubl
   return f;
 }
 
-// Checks every dV/dξ_i against central differences of evaluate(): translations by moving the
-// centre, rotations by turning the link-fixed axes about it (which must change nothing).
+// Checks every dV/dξ_i against central differences of evaluate() (contact_derivative_check.hpp):
+// translations move the centre, rotations turn the link-fixed axes about it (which must change nothing).
 void checkDerivatives(const ContactModel& model, const Terrain& terrain, const ContactFrame& frame,
                       const std::string& label, double tol = 1e-6) {
   SCOPED_TRACE(label);
@@ -98,37 +59,18 @@ void checkDerivatives(const ContactModel& model, const Terrain& terrain, const C
   TerrainQuery q;
   terrain.query(frame.position, q, false);
   const double depth = frame.radius - q.distance;
-  const double eps = depth > 0 ? std::clamp(1e-4 * depth, 1e-9, 1e-6) : 1e-6;
-  const ContactWrenches w = evaluateOne(model, frame, terrain, true);
   const ContactWrenches w0 = evaluateOne(model, frame, terrain, false);
-  EXPECT_EQ(w.V, w0.V) << "V must not depend on whether derivatives are requested";
-
-  auto translated = [&](const Eigen::VectorXd& dp) {
-    ContactFrame f = frame;
-    f.position += dp;
-    return flatten(evaluateOne(model, f, terrain, false).V);
-  };
-  auto rotated = [&](const Eigen::VectorXd& dw) {
-    ContactFrame f = frame;
-    const Eigen::AngleAxisd R(dw.norm(), dw.norm() > 0 ? Vec3(dw.normalized()) : Vec3::UnitZ());
-    f.leg_axis = R * f.leg_axis;
-    f.lateral = R * f.lateral;
-    return flatten(evaluateOne(model, f, terrain, false).V);
-  };
-  const Eigen::MatrixXd fd_trans = centralDifference(translated, Eigen::VectorXd::Zero(3), eps);
-  const Eigen::MatrixXd fd_rot = centralDifference(rotated, Eigen::VectorXd::Zero(3), 1e-4);
-  const double scale = w.V.cwiseAbs().maxCoeff();
+  const double scale = w0.V.cwiseAbs().maxCoeff();
+  VertexDerivativeCheck check;
+  check.translation_step = depth > 0 ? std::clamp(1e-4 * depth, 1e-9, 1e-6) : 1e-6;
+  check.rotation_step = 1e-4;
+  check.tolerance = tol;
+  check.scale_floor = 1e-9 * scale;  // some directions are ~0: relative to the largest derivative entry
+  const VertexDerivativeResult r = checkVertexDerivative(model, {frame}, terrain, check, label);
+  EXPECT_EQ(r.analytic[0].V, w0.V) << "V must not depend on whether derivatives are requested";
   for (int i = 0; i < 3; ++i) {
-    EXPECT_EQ(w.dV[i].cwiseAbs().maxCoeff(), 0.0) << "rotation " << i << " must not change V";
-    EXPECT_LE(fd_rot.col(i).cwiseAbs().maxCoeff(), 1e-14 * scale) << "rotation " << i;
-  }
-  for (int i = 0; i < 3; ++i) {
-    const Eigen::VectorXd analytic = flatten(w.dV[3 + i]);
-    const Eigen::VectorXd numeric = fd_trans.col(i);
-    // Relative to the largest derivative entry along any translation (some directions are ~0).
-    const double ref = std::max(fd_trans.cwiseAbs().maxCoeff(), 1e-9 * scale);
-    EXPECT_LE((analytic - numeric).cwiseAbs().maxCoeff() / ref, tol)
-        << "translation " << i << "\nanalytic " << analytic.transpose() << "\nnumeric  " << numeric.transpose();
+    EXPECT_EQ(r.analytic[0].dV[i].cwiseAbs().maxCoeff(), 0.0) << "rotation " << i << " must not change V";
+    EXPECT_LE(r.numeric[0].dV[i].cwiseAbs().maxCoeff(), 1e-14 * scale) << "rotation " << i;
   }
 }
 
@@ -251,12 +193,8 @@ TEST(CoulombDerivative, JustOutsideOnlyZetaActs) {
   const ContactWrenches w = evaluateOne(model, above, tilted, true);
   for (int i = 0; i < 6; ++i) EXPECT_EQ(w.dV[i].cwiseAbs().maxCoeff(), 0.0) << i;
   EXPECT_NEAR(w.V.col(0).tail<3>().dot(tilted.normal()), kz, 1e-15 * kz);
-  auto translated = [&](const Eigen::VectorXd& dp) {
-    ContactFrame f = above;
-    f.position += dp;
-    return flatten(evaluateOne(model, f, tilted, false).V);
-  };
-  EXPECT_LE(centralDifference(translated, Eigen::VectorXd::Zero(3), 1e-6).cwiseAbs().maxCoeff(), 1e-12 * kz);
+  const ContactWrenches numeric = centralVertexDerivative(model, {above}, tilted, 1e-6, 1e-6)[0];
+  for (int i = 3; i < 6; ++i) EXPECT_LE(numeric.dV[i].cwiseAbs().maxCoeff(), 1e-12 * kz) << i;
   // On curved terrain only the direction of the cone moves (∂n/∂p), with magnitude k ζ.
   const ParaboloidTerrain parab(0.8, -0.5);
   const BallTerrain ball(Vec3(0.0, 0.0, -1.0), 1.0);
@@ -270,12 +208,7 @@ TEST(CoulombDerivative, CurvedTerrainRandomStates) {
   const ParaboloidTerrain parab(0.8, -0.5);
   const BallTerrain ball(Vec3(0.05, -0.1, -0.6), 0.6);
   std::uniform_real_distribution<double> depth(5e-4, 1e-2);
-  CoulombParameters other;
-  other.mu = 1.1;
-  other.K = 7;
-  other.k = 3e6;
-  other.p = 2.5;
-  other.zeta = 1e-6;
+  const CoulombParameters other = coulombParameters(1.1, 7, 3e6, 2.5, 1e-6);
   const CoulombModel model = defaultModel(), model_other(other);
   for (int trial = 0; trial < 20; ++trial) {
     const Eigen::VectorXd xy = randomVector(rng, 2, 0.4);
@@ -338,12 +271,7 @@ void checkCone(const CoulombModel& model, const Terrain& terrain, const ContactF
 }
 
 TEST(CoulombPhysics, ConeShapeAndNormalForce) {
-  CoulombParameters p2;
-  p2.p = 2.0;
-  p2.mu = 0.4;
-  p2.K = 4;
-  p2.k = 1e6;
-  p2.zeta = 1e-4;
+  const CoulombParameters p2 = coulombParameters(0.4, 4, 1e6, 2.0, 1e-4);
   const CoulombModel model = defaultModel(), model_p2(p2);
   const PlaneTerrain flat, tilted(Vec3(0.3, -0.2, 1.0), 0.05);
   const ParaboloidTerrain parab(0.8, -0.5);

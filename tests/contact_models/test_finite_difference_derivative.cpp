@@ -3,32 +3,46 @@
 // flat and tilted ground (feet 1-12 mm deep, tilted legs) and the project's hand-made RBF sand
 // model. Also: V is left as it was, the model is never asked for a derivative, and contacts in the
 // air give zero.
+#include <gtest/gtest-spi.h>
+
 #include <random>
 
 #include "contact_models/coulomb_model.hpp"
 #include "contact_models/finite_difference_derivative.hpp"
 #include "contact_models/rbf_model.hpp"
+#include "contact_derivative_check.hpp"
 #include "terrain/plane.hpp"
 #include "test_support.hpp"
 
 namespace nmdp::test {
 namespace {
 
-// Passes values through and fails the test if a derivative is ever requested.
-class ValuesOnly : public ContactModel {
+// The inner model seen through a test's lens: values only (the test fails if a derivative is ever
+// requested, which the zeroth-order path must never do), or its derivative scaled by a factor.
+class Lens : public ContactModel {
  public:
-  explicit ValuesOnly(const ContactModel& inner) : inner_(inner) {}
+  static Lens valuesOnly(const ContactModel& inner) { return Lens(inner, true, 1.0); }
+  static Lens derivativeTimes(const ContactModel& inner, double factor) { return Lens(inner, false, factor); }
   int vertexCount() const override { return inner_.vertexCount(); }
-  DerivativeSupport derivative() const override { return DerivativeSupport::None; }
-  std::string describe() const override { return "values only"; }
+  DerivativeSupport derivative() const override {
+    return values_only_ ? DerivativeSupport::None : DerivativeSupport::Analytic;
+  }
+  std::string describe() const override { return values_only_ ? "values only" : "scaled derivative"; }
   void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
                 bool with_derivatives) const override {
-    EXPECT_FALSE(with_derivatives) << "the finite-difference derivative asked the model for a derivative";
-    inner_.evaluate(frames, terrain, out, false);
+    if (values_only_) EXPECT_FALSE(with_derivatives) << "the finite-difference derivative asked the model for a derivative";
+    inner_.evaluate(frames, terrain, out, with_derivatives && !values_only_);
+    if (with_derivatives && !values_only_)
+      for (ContactWrenches& w : out)
+        for (Mat6X& d : w.dV) d *= factor_;
   }
 
  private:
+  Lens(const ContactModel& inner, bool values_only, double factor)
+      : inner_(inner), values_only_(values_only), factor_(factor) {}
   const ContactModel& inner_;
+  bool values_only_;
+  double factor_;
 };
 
 // Feet whose lowest point is 1-12 mm below the plane, legs tilted up to 0.4 rad, plus one in the air.
@@ -53,8 +67,8 @@ std::vector<ContactFrame> feet(const PlaneTerrain& terrain, double radius, std::
   return frames;
 }
 
-// Worst error of the finite-difference dV/dξ against the analytic one, relative to each contact's
-// largest analytic entry.
+// Worst error of the finite-difference dV/dξ against the analytic one (contact_derivative_check.hpp),
+// relative to each contact's largest entry (no floor: a derivative that vanishes in the ground fails).
 double worstError(const ContactModel& model, const PlaneTerrain& terrain, double radius, unsigned seed) {
   std::mt19937 rng(seed);
   const std::vector<ContactFrame> frames = feet(terrain, radius, rng);
@@ -64,31 +78,25 @@ double worstError(const ContactModel& model, const PlaneTerrain& terrain, double
   for (ContactWrenches& w : estimate) w.resize(K);
   model.evaluate(frames, terrain, exact, true);
   model.evaluate(frames, terrain, estimate, false);
-  const std::vector<Mat6X> V_before = [&] {
-    std::vector<Mat6X> v;
-    for (const ContactWrenches& w : estimate) v.push_back(w.V);
-    return v;
-  }();
+  std::vector<Mat6X> V_before;
+  for (const ContactWrenches& w : estimate) V_before.push_back(w.V);
   FiniteDifferenceDerivative fd(static_cast<int>(frames.size()), K);
-  fd.evaluate(ValuesOnly(model), frames, terrain, estimate);
-  double worst = 0.0;
-  for (size_t c = 0; c < frames.size(); ++c) {
+  fd.evaluate(Lens::valuesOnly(model), frames, terrain, estimate);
+  for (size_t c = 0; c < frames.size(); ++c)
     EXPECT_EQ((estimate[c].V - V_before[c]).cwiseAbs().maxCoeff(), 0.0) << "V must be left as it was";
-    double scale = 0.0;
-    for (const Mat6X& d : exact[c].dV) scale = std::max(scale, d.cwiseAbs().maxCoeff());
-    if (c == frames.size() - 1) {
-      // In the air: both zero (Coulomb keeps ζ, a constant: its derivative is zero too).
-      for (int i = 0; i < 6; ++i) EXPECT_LE(estimate[c].dV[i].cwiseAbs().maxCoeff(), 1e-9 * std::max(scale, 1.0));
-      continue;
-    }
-    EXPECT_GT(scale, 0.0) << "contact " << c << " is in the ground: dV/dξ must not vanish";
-    for (int i = 0; i < 6; ++i) {
-      const double e = (estimate[c].dV[i] - exact[c].dV[i]).cwiseAbs().maxCoeff() / scale;
-      EXPECT_LT(e, 1e-6) << "contact " << c << ", ξ_" << i;
-      worst = std::max(worst, e);
-    }
-  }
-  return worst;
+  // In the air (the last contact): both zero (Coulomb keeps ζ, a constant: its derivative is zero too).
+  const double air_scale = largestDerivative(exact.back(), 0, VertexDerivativeCheck::Scale::PerContact);
+  for (int i = 0; i < 6; ++i)
+    EXPECT_LE(estimate.back().dV[i].cwiseAbs().maxCoeff(), 1e-9 * std::max(air_scale, 1.0));
+  exact.pop_back();
+  estimate.pop_back();
+  for (size_t c = 0; c < exact.size(); ++c)
+    EXPECT_GT(largestDerivative(exact[c], 0, VertexDerivativeCheck::Scale::PerContact), 0.0)
+        << "contact " << c << " is in the ground: dV/dξ must not vanish";
+  VertexDerivativeCheck check;
+  check.tolerance = 1e-6;
+  check.scale_floor = 0.0;
+  return expectVertexDerivativesMatch(exact, estimate, check, "in the ground");
 }
 
 TEST(FiniteDifferenceDerivative, MatchesTheCoulombConeOnFlatAndTiltedGround) {
@@ -107,6 +115,23 @@ TEST(FiniteDifferenceDerivative, MatchesTheHandmadeSandModel) {
     const double e = worstError(*model, PlaneTerrain(), 0.02, seed);
     std::printf("  hand-made sand RBF, seed %u: worst relative error %.2e\n", seed, e);
   }
+}
+
+TEST(VertexDerivativeCheck, PassesTheExactDerivativeAndCatchesAWrongOne) {
+  const CoulombModel model;
+  const PlaneTerrain terrain(Vec3(0.2, -0.1, 1.0), 0.03);
+  std::mt19937 rng(3);
+  const std::vector<ContactFrame> frames = feet(terrain, 0.02, rng);
+  const VertexDerivativeCheck check;  // 1e-6 m and rad, 1e-6 relative to the contact's largest entry
+  EXPECT_LT(checkVertexDerivative(model, frames, terrain, check).worst, 1e-6);
+  // A derivative 1e-5 too large (relative) must fail the check.
+  ::testing::TestPartResultArray failures;
+  {
+    const ::testing::ScopedFakeTestPartResultReporter intercept(
+        ::testing::ScopedFakeTestPartResultReporter::INTERCEPT_ONLY_CURRENT_THREAD, &failures);
+    checkVertexDerivative(Lens::derivativeTimes(model, 1.0 + 1e-5), frames, terrain, check);
+  }
+  EXPECT_GT(failures.size(), 0) << "the checker passed a derivative 1e-5 off";
 }
 
 TEST(FiniteDifferenceDerivative, PerturbedFrameRotatesAboutTheCentreAndTranslates) {

@@ -5,7 +5,6 @@
 #include <Eigen/Geometry>
 #include <array>
 #include <atomic>
-#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -14,7 +13,7 @@
 #include <random>
 #include <thread>
 
-#include "contact_models/finite_difference_derivative.hpp"
+#include "contact_derivative_check.hpp"
 #include "contact_models/mlp/mlp_function.hpp"
 #include "contact_models/mlp/mlp_model.hpp"
 #include "contact_models/planar_wrench_model.hpp"
@@ -46,13 +45,8 @@ MlpParameters testParameters(MlpActivation activation = MlpActivation::Tanh, std
   return p;
 }
 
-PlanarGeometry testGeometry() {
-  PlanarGeometry g;
-  g.torque_centre = 0.1572;
-  g.cutoff = 0.1;
-  g.cutoff_width = 0.02;
-  return g;
-}
+// The published RBF model's geometry (torque centre, cut-off and its band, in m).
+PlanarGeometry testGeometry() { return PlanarGeometry{0.1572, 0.1, 0.02}; }
 
 Eigen::MatrixX2d testFeatures() {
   Eigen::MatrixX2d f(4, 2);
@@ -65,17 +59,10 @@ bool identical(const Eigen::MatrixXd& a, const Eigen::MatrixXd& b) {
          std::memcmp(a.data(), b.data(), sizeof(double) * static_cast<size_t>(a.size())) == 0;
 }
 
-// dW/dφ (d = 0) or dW/dβ (d = 1) of every row by central differences: rows are independent, so one
-// perturbed batch differentiates them all.
-Eigen::MatrixXd centralDifference(const MlpFunction& mlp, const Eigen::MatrixX2d& f, int d) {
-  const double eps = 1e-4 * mlp.parameters().input_std[d];
-  Eigen::MatrixX2d fp = f, fm = f;
-  fp.col(d).array() += eps;
-  fm.col(d).array() -= eps;
-  Eigen::MatrixXd Wp, Wm;
-  mlp.evaluate(fp, Wp, nullptr, nullptr);
-  mlp.evaluate(fm, Wm, nullptr, nullptr);
-  return (Wp - Wm) / (2 * eps);
+// dW/dφ (d = 0) or dW/dβ (d = 1) of every row by central differences (contact_derivative_check.hpp)
+// with a step of 1e-4 of that feature's normalization.
+Eigen::MatrixXd centralDifference(const MlpFunction& mlp, const Eigen::MatrixX2d& f, int d, int order = 2) {
+  return test::centralFeatureDerivative(mlp, f, d, 1e-4 * mlp.parameters().input_std[d], order);
 }
 
 // Each row's dW/dφ and dW/dβ against central differences, on that row's own scale (rows near a zero
@@ -522,16 +509,7 @@ TEST(MlpSoftDepth, FactorIsTheSoftplusOfDepthAndItsDerivative) {
 // The fourth-order central difference: at an anchor W = m (N − b N_a) is zero while the bump's
 // curvature times m' is large, so the second-order one is off by ~1e-5 there at the usual step.
 Eigen::MatrixXd fivePointDifference(const MlpFunction& mlp, const Eigen::MatrixX2d& f, int d) {
-  const double eps = 1e-4 * mlp.parameters().input_std[d];
-  Eigen::MatrixXd sum = Eigen::MatrixXd::Zero(f.rows(), 3 * mlp.vertexCount());
-  for (const auto& [k, c] : {std::pair{2, -1.0}, {1, 8.0}, {-1, -8.0}, {-2, 1.0}}) {
-    Eigen::MatrixX2d g = f;
-    g.col(d).array() += k * eps;
-    Eigen::MatrixXd W;
-    mlp.evaluate(g, W, nullptr, nullptr);
-    sum += c * W;
-  }
-  return sum / (12 * eps);
+  return centralDifference(mlp, f, d, 4);
 }
 
 class MlpSoftDepthDerivatives : public ::testing::TestWithParam<FunctionCase> {};
@@ -1009,25 +987,13 @@ TEST_P(MlpModelTerrain, DerivativeMatchesFiniteDifferences) {
       p.output_offset *= 100.0;
     }
     const PlanarWrenchModel model(std::make_shared<const MlpFunction>(p, jacobian), testGeometry(), "mlp");
-    const int K = model.vertexCount();
-    std::vector<ContactWrenches> out(frames.size());
-    for (ContactWrenches& w : out) w.resize(K);
-    model.evaluate(frames, terrain, out, true);
-
-    const double eps = 1e-6;
-    for (size_t c = 0; c < frames.size(); ++c) {
-      for (int i = 0; i < 6; ++i) {
-        std::vector<ContactWrenches> plus(1), minus(1);
-        plus[0].resize(K);
-        minus[0].resize(K);
-        model.evaluate({perturbedFrame(frames[c], i, eps)}, terrain, plus, false);
-        model.evaluate({perturbedFrame(frames[c], i, -eps)}, terrain, minus, false);
-        const Mat6X fd = (plus[0].V - minus[0].V) / (2 * eps);
-        EXPECT_LT(relativeError(out[c].dV[i], fd, 1.0), 1e-6)
-            << mlpJacobianName(jacobian) << (envelope ? " (depth envelope)" : "") << ", contact " << c << ", xi_" << i;
-      }
-      EXPECT_GT(out[c].V.cwiseAbs().maxCoeff(), 1.0) << "contact " << c;
-    }
+    // Each dV/dξ_i on its own scale (at least 1 N/m), steps of 1e-6 m and rad.
+    test::VertexDerivativeCheck check;
+    check.scale = test::VertexDerivativeCheck::Scale::PerMotion;
+    check.scale_floor = 1.0;
+    const test::VertexDerivativeResult r = test::checkVertexDerivative(
+        model, frames, terrain, check, std::string(mlpJacobianName(jacobian)) + (envelope ? " (depth envelope)" : ""));
+    for (size_t c = 0; c < frames.size(); ++c) EXPECT_GT(r.analytic[c].V.cwiseAbs().maxCoeff(), 1.0) << "contact " << c;
   }
 }
 
@@ -1134,41 +1100,6 @@ TEST(MlpModel, FactoryBadInput) {
   raw.p.layers[2].weight(0, 0) = std::nan("");
   raw.write(file.path());
   expectError({{"file", file.path()}}, {"contacts.model.file", file.path(), "'/mlp/layer_2/weight'"});
-}
-
-// ----- timing (a report, not a pass/fail criterion; bench/ holds the benchmark) --------------------
-
-template <class F>
-double microsecondsPerCall(F f) {
-  for (int i = 0; i < 50; ++i) f();
-  double best = 1e300;
-  for (int round = 0; round < 5; ++round) {
-    const int n = 100;
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int i = 0; i < n; ++i) f();
-    best = std::min(best, std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / n);
-  }
-  return best;
-}
-
-TEST(MlpTiming, FourContacts) {
-  const PlaneTerrain terrain;
-  const std::vector<ContactFrame> frames = testFrames();
-  std::vector<ContactWrenches> out(4);
-  for (ContactWrenches& w : out) w.resize(kVertices);
-  const Eigen::MatrixX2d f = testFeatures();
-  Eigen::MatrixXd W, p, b;
-  for (MlpJacobian jacobian : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
-    auto function = std::make_shared<const MlpFunction>(testParameters(), jacobian);
-    const PlanarWrenchModel model(function, testGeometry(), "mlp");
-    const double values = microsecondsPerCall([&] { model.evaluate(frames, terrain, out, false); });
-    const double derivatives = microsecondsPerCall([&] { model.evaluate(frames, terrain, out, true); });
-    const double raw = microsecondsPerCall([&] { function->evaluate(f, W, &p, &b); });
-    std::cout << "[ timing   ] 2x64 tanh MLP, K = 26, 4 contacts, " << mlpJacobianName(jacobian)
-              << ": evaluate() values " << values << " us, with dV/dxi " << derivatives
-              << " us (feature function alone with dW/df " << raw << " us; best of 5 x 100)\n";
-    RecordProperty(std::string("evaluate_with_derivatives_us_") + mlpJacobianName(jacobian), std::to_string(derivatives));
-  }
 }
 
 }  // namespace

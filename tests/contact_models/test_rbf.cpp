@@ -6,9 +6,8 @@
 //  * dW/df of every kernel and the full dV/dξ (tilted legs, tilted terrain, radius, fixed lateral)
 //    against central finite differences;
 //  * HDF5 save → load is bit-identical; bad files and bad JSON give an InputError naming the file;
-//  * evaluation allocates nothing once warmed up (timing printed for information).
+//  * evaluation allocates nothing once warmed up (bench/bench_contact_models.cpp times it).
 // Tests on ../shared data skip with a message when it is absent; the others use synthetic models.
-#include <chrono>
 #include <cstdlib>
 #include <fstream>
 #include <map>
@@ -21,7 +20,9 @@
 #include "io/hdf5_file.hpp"
 #include "common/input_error.hpp"
 #include "terrain/plane.hpp"
+#include "contact_derivative_check.hpp"
 #include "test_support.hpp"
+#include "test_terrains.hpp"
 
 // Allocation counting: on glibc the malloc family is interposed (operator new calls malloc).
 #define NMDP_COUNT_MALLOC
@@ -300,15 +301,13 @@ double featureDerivativeError(const FeatureWrenchFunction& f, const Eigen::Matri
   f.evaluate(points, W_plain, nullptr, nullptr);
   EXPECT_LE((W_plain - W).cwiseAbs().maxCoeff() / scale, 1e-10);
   double worst = 0.0;
+  const Eigen::MatrixXd fd_phi = centralFeatureDerivative(f, points, 0, h);
+  const Eigen::MatrixXd fd_beta = centralFeatureDerivative(f, points, 1, h);
   for (int b = 0; b < points.rows(); ++b) {
-    const Eigen::RowVectorXd fd_phi =
-        (evalRow(f, points(b, 0) + h, points(b, 1)) - evalRow(f, points(b, 0) - h, points(b, 1))) / (2 * h);
-    const Eigen::RowVectorXd fd_beta =
-        (evalRow(f, points(b, 0), points(b, 1) + h) - evalRow(f, points(b, 0), points(b, 1) - h)) / (2 * h);
     EXPECT_LE((evalRow(f, points(b, 0), points(b, 1)) - W.row(b)).cwiseAbs().maxCoeff() / scale, 1e-10);
     Eigen::MatrixXd analytic(2, W.cols()), numeric(2, W.cols());
     analytic << dphi.row(b), dbeta.row(b);
-    numeric << fd_phi, fd_beta;
+    numeric << fd_phi.row(b), fd_beta.row(b);
     worst = std::max(worst, relativeError(analytic, numeric, 1e-9));
   }
   return worst;
@@ -431,37 +430,23 @@ INSTANTIATE_TEST_SUITE_P(All, RbfKernels,
 // ===== (d) the full dV/dξ against central finite differences ====================================
 
 // Evaluates all frames in one batch with derivatives and compares each dV/dξ_i with central
-// differences of the batch evaluation. Returns the worst relative error.
+// differences of the batch evaluation, relative to the contact's largest derivative entry. Returns the
+// worst relative error.
 double frameDerivativeError(const ContactModel& model, const std::vector<ContactFrame>& frames, const Terrain& terrain,
                             double eps) {
-  const int K = model.vertexCount();
-  std::vector<ContactWrenches> out(frames.size()), plus(frames.size()), minus(frames.size());
-  for (auto* v : {&out, &plus, &minus})
-    for (ContactWrenches& w : *v) w.resize(K);
-  model.evaluate(frames, terrain, out, true);
-  double worst = 0.0;
+  VertexDerivativeCheck check;
+  check.rotation_step = check.translation_step = eps;
+  check.tolerance = 1e-6;
+  check.scale_floor = 1e-9;
+  const VertexDerivativeResult r = checkVertexDerivative(model, frames, terrain, check);
   for (size_t c = 0; c < frames.size(); ++c) {
     // V without derivatives equals V with them.
     std::vector<ContactWrenches> plain(1);
-    plain[0].resize(K);
+    plain[0].resize(model.vertexCount());
     model.evaluate({frames[c]}, terrain, plain, false);
-    EXPECT_LE(relativeError(plain[0].V, out[c].V), 1e-9);
-    double scale = 1e-9;
-    for (int i = 0; i < 6; ++i) scale = std::max(scale, out[c].dV[i].cwiseAbs().maxCoeff());
-    for (int i = 0; i < 6; ++i) {
-      std::vector<ContactFrame> fp = frames, fm = frames;
-      fp[c] = perturbedFrame(frames[c], i, eps);
-      fm[c] = perturbedFrame(frames[c], i, -eps);
-      model.evaluate(fp, terrain, plus, false);
-      model.evaluate(fm, terrain, minus, false);
-      const Mat6X numeric = (plus[c].V - minus[c].V) / (2 * eps);
-      const double err = (out[c].dV[i] - numeric).cwiseAbs().maxCoeff() / scale;
-      EXPECT_LT(err, 1e-6) << "contact " << c << ", xi " << i;
-      EXPECT_TRUE(out[c].dV[i].allFinite());
-      worst = std::max(worst, err);
-    }
+    EXPECT_LE(relativeError(plain[0].V, r.analytic[c].V), 1e-9);
   }
-  return worst;
+  return r.worst;
 }
 
 struct FrameCase {
@@ -523,30 +508,8 @@ void checkFrameDerivatives(const ContactModel& model, const char* what) {
   }
 }
 
-// A curved terrain (a ball-shaped hill of radius R around o): unlike a plane, its normal changes
-// with the query point, which exercises the ∂n/∂p terms of the sagittal frame.
-class BallTerrain : public Terrain {
- public:
-  BallTerrain(const Vec3& centre, double radius) : o_(centre), R_(radius) {}
-  void query(const Vec3& p, TerrainQuery& out, bool derivatives) const override {
-    const Vec3 d = p - o_;
-    const double r = d.norm();
-    out.distance = r - R_;
-    out.normal = d / r;
-    if (derivatives) {
-      out.gradient = out.normal;
-      out.normal_jacobian = (Mat3::Identity() - out.normal * out.normal.transpose()) / r;
-    }
-  }
-  std::string describe() const override { return "ball"; }
-  const Vec3& centre() const { return o_; }
-  double radius() const { return R_; }
-
- private:
-  Vec3 o_;
-  double R_;
-};
-
+// A curved terrain (a ball-shaped hill of radius R around o, test_terrains.hpp): unlike a plane, its
+// normal changes with the query point, which exercises the ∂n/∂p terms of the sagittal frame.
 void checkCurvedTerrainDerivatives(const ContactModel& model, const char* what) {
   const BallTerrain hill(Vec3(0.1, -0.2, -0.8), 0.8);
   const std::vector<Vec3> directions = {Vec3(0.3, 0.2, 1.0), Vec3(-0.5, 0.1, 1.0), Vec3(0.1, -0.6, 1.0),
@@ -958,9 +921,9 @@ TEST(RbfBadInput, Configuration) {
   EXPECT_EQ(std::find(kRbfParameters.begin(), kRbfParameters.end(), "type"), kRbfParameters.end());
 }
 
-// ===== performance: no allocation once warmed up; timing for information ========================
+// ===== performance: no allocation once warmed up (bench_contact_models times it) =================
 
-TEST(RbfPerformance, NoAllocationOnceWarmedUpAndTiming) {
+TEST(RbfPerformance, NoAllocationOnceWarmedUp) {
   std::shared_ptr<const RbfFunction> f;
   if (fs::exists(sharedPath(kSandModel))) {
     f = loadSandFunction();
@@ -984,15 +947,6 @@ TEST(RbfPerformance, NoAllocationOnceWarmedUpAndTiming) {
     EXPECT_EQ(count.mallocs, 0) << "PlanarWrenchModel(RBF)::evaluate allocated once warmed up";
   } else {
     std::cout << "[ info ] allocation counting unavailable in this build (sanitizer or non-glibc)\n";
-  }
-
-  const int reps = 2000;
-  for (bool derivatives : {false, true}) {
-    const auto t0 = std::chrono::steady_clock::now();
-    for (int r = 0; r < reps; ++r) model.evaluate(frames, terrain, out, derivatives);
-    const double us = std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - t0).count() / reps;
-    std::cout << "[ info ] " << f->centreCount() << " centres x " << f->vertexCount() << " vertices, 4 contacts, "
-              << (derivatives ? "V and dV/dxi" : "V only") << ": " << us << " us per call\n";
   }
 }
 

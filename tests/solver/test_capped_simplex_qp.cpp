@@ -1,13 +1,14 @@
 // The capped-simplex QP of the PGM (DESIGN.md 3): KKT conditions on random problems, brute force on
-// tiny problems, warm start, no allocation after warm-up, degenerate cases.
+// tiny problems, warm start, no allocation after warm-up, degenerate cases (bench_solver_qp.cpp times
+// the solves).
 //
 // Allocation counting (test_allocation_counter.hpp): as in test_no_allocation.cpp, the global
 // operator new family is replaced and on glibc the malloc family is interposed; both count only
 // while counting is on.
-#include <chrono>
 #include <cstdlib>
 #include <iostream>
 
+#include "random_qp_problems.hpp"
 #include "solver/capped_simplex_qp.hpp"
 #include "test_support.hpp"
 
@@ -18,73 +19,6 @@
 namespace nmdp::test {
 namespace {
 
-struct Problem {
-  std::vector<int> sizes;
-  Eigen::MatrixXd Q;
-  double beta = 1.0;
-  Eigen::VectorXd g, w;
-  int n() const { return static_cast<int>(g.size()); }
-};
-
-double logUniform(std::mt19937& rng, double lo, double hi) {
-  std::uniform_real_distribution<double> u(std::log(lo), std::log(hi));
-  return std::exp(u(rng));
-}
-
-// A random feasible w for one contact: zero, a vertex, on the cap, interior, or sparse interior.
-void randomFeasibleBlock(std::mt19937& rng, Eigen::Ref<Eigen::VectorXd> wc) {
-  std::uniform_int_distribution<int> kind(0, 4);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  const int K = static_cast<int>(wc.size());
-  wc.setZero();
-  switch (kind(rng)) {
-    case 0: break;
-    case 1: wc[std::uniform_int_distribution<int>(0, K - 1)(rng)] = 1.0; break;
-    case 2:
-      for (int i = 0; i < K; ++i) wc[i] = u(rng);
-      wc /= wc.sum();
-      break;
-    case 3:
-      for (int i = 0; i < K; ++i) wc[i] = u(rng);
-      wc *= u(rng) / wc.sum();
-      break;
-    default:
-      for (int i = 0; i < K; ++i) wc[i] = u(rng) < 0.5 ? 0.0 : u(rng);
-      if (wc.sum() > 0) wc *= u(rng) / wc.sum();
-  }
-}
-
-Problem randomProblem(std::mt19937& rng, const std::vector<int>& sizes, double beta_lo, double beta_hi) {
-  Problem p;
-  p.sizes = sizes;
-  int n = 0;
-  for (int K : sizes) n += K;
-  std::uniform_int_distribution<int> rows(1, n + 6);
-  const int m = rows(rng);
-  const Eigen::MatrixXd A = randomVector(rng, m * n, 1.0).reshaped(m, n);
-  p.Q = logUniform(rng, 1e-2, 1e2) * A.transpose() * A;
-  p.Q = 0.5 * (p.Q + p.Q.transpose()).eval();
-  p.beta = logUniform(rng, beta_lo, beta_hi);
-  // gradient: random, with a shift that pushes toward the caps (negative), the bounds (positive) or
-  // a small gradient relative to the curvature (interior solutions)
-  const double gscale = logUniform(rng, 1e-3, 1e3);
-  p.g = randomVector(rng, n, gscale);
-  std::uniform_int_distribution<int> shift(0, 3);
-  switch (shift(rng)) {
-    case 0: p.g.array() -= 2 * gscale; break;
-    case 1: p.g.array() += 0.5 * gscale; break;
-    case 2: p.g *= 1e-6 * (p.beta + 1.0) / gscale; break;
-    default: break;
-  }
-  p.w.setZero(n);
-  int offset = 0;
-  for (int K : sizes) {
-    randomFeasibleBlock(rng, p.w.segment(offset, K));
-    offset += K;
-  }
-  return p;
-}
-
 std::vector<int> randomSizes(std::mt19937& rng) {
   std::uniform_int_distribution<int> contacts(1, 4), K(3, 26);
   std::vector<int> sizes(contacts(rng));
@@ -92,17 +26,17 @@ std::vector<int> randomSizes(std::mt19937& rng) {
   return sizes;
 }
 
-double objective(const Problem& p, const Eigen::VectorXd& dw) {
+double objective(const QpProblem& p, const Eigen::VectorXd& dw) {
   return p.g.dot(dw) + 0.5 * dw.dot(p.Q * dw) + 0.5 * p.beta * dw.squaredNorm();
 }
 
-double kkt(const Problem& p, const CappedSimplexQp& qp, const Eigen::VectorXd& dw) {
+double kkt(const QpProblem& p, const CappedSimplexQp& qp, const Eigen::VectorXd& dw) {
   return kktResidual(p.Q, p.beta, p.g, p.w, p.sizes, dw, qp.boundMultipliers(), qp.capMultipliers());
 }
 
 // Brute force: every working set (each variable fixed at 0 or free, each cap active or not); the
 // equality-constrained minimizer of each by a dense KKT solve; the lowest objective among the feasible.
-Eigen::VectorXd bruteForce(const Problem& p) {
+Eigen::VectorXd bruteForce(const QpProblem& p) {
   const int n = p.n();
   const int C = static_cast<int>(p.sizes.size());
   Eigen::MatrixXd H = p.Q;
@@ -158,7 +92,7 @@ TEST(CappedSimplexQp, KktOnRandomProblems) {
   double worst = 0;
   const int N = 600;
   for (int trial = 0; trial < N; ++trial) {
-    const Problem p = randomProblem(rng, randomSizes(rng), 1e-4, 1e6);
+    const QpProblem p = randomProblem(rng, randomSizes(rng), 1e-4, 1e6);
     CappedSimplexQp qp(p.sizes);
     Eigen::VectorXd dw(p.n());
     const QpResult r = qp.solve(p.Q, p.beta, p.g, p.w, dw);
@@ -189,7 +123,7 @@ TEST(CappedSimplexQp, MatchesBruteForceOnSmallProblems) {
   const std::vector<std::vector<int>> shapes = {{4, 4}, {3, 5}, {8}, {3, 3}, {3}, {5, 3}};
   int agreements = 0;
   for (int trial = 0; trial < 240; ++trial) {
-    const Problem p = randomProblem(rng, shapes[trial % shapes.size()], 1e-3, 1e4);
+    const QpProblem p = randomProblem(rng, shapes[trial % shapes.size()], 1e-3, 1e4);
     CappedSimplexQp qp(p.sizes);
     Eigen::VectorXd dw(p.n());
     const QpResult r = qp.solve(p.Q, p.beta, p.g, p.w, dw);
@@ -210,13 +144,13 @@ TEST(CappedSimplexQp, WarmStartReusesTheActiveSet) {
   int warm_used = 0;
   const int N = 200;
   for (int trial = 0; trial < N; ++trial) {
-    const Problem p = randomProblem(rng, randomSizes(rng), 1e-2, 1e4);
+    const QpProblem p = randomProblem(rng, randomSizes(rng), 1e-2, 1e4);
     CappedSimplexQp qp(p.sizes);
     Eigen::VectorXd dw(p.n());
     ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
     const QpActiveSet previous = qp.activeSet();
     // a slightly perturbed problem (same w, slightly different Q and g)
-    Problem next = p;
+    QpProblem next = p;
     next.Q *= 1.0 + 1e-7;
     next.g += randomVector(rng, p.n(), 1e-9 * (1.0 + p.g.cwiseAbs().maxCoeff()));
     Eigen::VectorXd dw_cold(p.n()), dw_warm(p.n());
@@ -243,7 +177,7 @@ TEST(CappedSimplexQp, WarmStartReusesTheActiveSet) {
 TEST(CappedSimplexQp, WarmStartAfterBetaChange) {
   std::mt19937 rng(99);
   for (int trial = 0; trial < 100; ++trial) {
-    const Problem p = randomProblem(rng, randomSizes(rng), 1e-2, 1e4);
+    const QpProblem p = randomProblem(rng, randomSizes(rng), 1e-2, 1e4);
     CappedSimplexQp qp(p.sizes);
     Eigen::VectorXd dw(p.n()), dw_cold(p.n()), dw_warm(p.n());
     ASSERT_EQ(qp.solve(p.Q, p.beta, p.g, p.w, dw).status, QpStatus::Converged);
@@ -251,7 +185,7 @@ TEST(CappedSimplexQp, WarmStartAfterBetaChange) {
     const double beta = p.beta * 1.5;
     ASSERT_EQ(qp.solve(p.Q, beta, p.g, p.w, dw_cold).status, QpStatus::Converged);
     ASSERT_EQ(qp.solve(p.Q, beta, p.g, p.w, dw_warm, &previous).status, QpStatus::Converged);
-    Problem q = p;
+    QpProblem q = p;
     q.beta = beta;
     EXPECT_LT(kkt(q, qp, dw_warm), 1e-10);
     EXPECT_LT((dw_cold - dw_warm).cwiseAbs().maxCoeff(), 1e-9 * std::max(1.0, dw_cold.cwiseAbs().maxCoeff()));
@@ -261,14 +195,14 @@ TEST(CappedSimplexQp, WarmStartAfterBetaChange) {
 TEST(CappedSimplexQp, NoAllocationAfterWarmUp) {
   std::mt19937 rng(31);
   const std::vector<int> sizes = {26, 26, 26, 26};
-  std::vector<Problem> problems;
+  std::vector<QpProblem> problems;
   for (int i = 0; i < 8; ++i) problems.push_back(randomProblem(rng, sizes, 1e-3, 1e3));
   CappedSimplexQp qp(sizes);
   Eigen::VectorXd dw(104);
   QpActiveSet warm = qp.activeSet();
   int k = 0;
   const AllocationCount count = allocationsOf([&] {
-    for (const Problem& p : problems) {
+    for (const QpProblem& p : problems) {
       qp.solve(p.Q, p.beta, p.g, p.w, dw);
       warm = qp.activeSet();  // same sizes: no reallocation
       qp.solve(p.Q, p.beta * 2, p.g, p.w, dw, &warm);
@@ -300,7 +234,7 @@ TEST(CappedSimplexQp, DegenerateCases) {
   const int n = 15;
   // Q = 0: only the proximal term; the solution is the projection of w − g/β onto the capped simplices.
   for (int trial = 0; trial < 50; ++trial) {
-    Problem p = randomProblem(rng, sizes, 1e-3, 1e3);
+    QpProblem p = randomProblem(rng, sizes, 1e-3, 1e3);
     p.Q.setZero();
     CappedSimplexQp qp(sizes);
     Eigen::VectorXd dw(n);
@@ -309,7 +243,7 @@ TEST(CappedSimplexQp, DegenerateCases) {
   }
   // g = 0: Δw = 0 whatever Q, β and (feasible) w.
   for (int trial = 0; trial < 50; ++trial) {
-    Problem p = randomProblem(rng, sizes, 1e-4, 1e6);
+    QpProblem p = randomProblem(rng, sizes, 1e-4, 1e6);
     p.g.setZero();
     CappedSimplexQp qp(sizes);
     Eigen::VectorXd dw(n);
@@ -319,7 +253,7 @@ TEST(CappedSimplexQp, DegenerateCases) {
   }
   // w at a vertex of every capped simplex.
   for (int trial = 0; trial < 50; ++trial) {
-    Problem p = randomProblem(rng, sizes, 1e-4, 1e6);
+    QpProblem p = randomProblem(rng, sizes, 1e-4, 1e6);
     p.w.setZero();
     p.w[trial % 6] = 1.0;
     p.w[6 + trial % 4] = 1.0;
@@ -331,7 +265,7 @@ TEST(CappedSimplexQp, DegenerateCases) {
   }
   // An all-zero contact block (no coupling, no gradient, w_c = 0): Δw_c = 0.
   for (int trial = 0; trial < 50; ++trial) {
-    Problem p = randomProblem(rng, sizes, 1e-4, 1e6);
+    QpProblem p = randomProblem(rng, sizes, 1e-4, 1e6);
     p.Q.middleRows(6, 4).setZero();
     p.Q.middleCols(6, 4).setZero();
     p.g.segment(6, 4).setZero();
@@ -374,38 +308,6 @@ TEST(CappedSimplexQp, ReportsBadInputAndNonConvexity) {
   qp.options.max_iterations = 1;
   const QpResult r = qp.solve(Eigen::MatrixXd::Identity(6, 6), 1.0, g, Eigen::VectorXd::Zero(6), dw);
   EXPECT_EQ(r.status, QpStatus::MaxIterations);
-}
-
-TEST(CappedSimplexQp, TimingFourByTwentySix) {
-  std::mt19937 rng(2024);
-  const std::vector<int> sizes = {26, 26, 26, 26};
-  std::vector<Problem> problems;
-  for (int i = 0; i < 50; ++i) problems.push_back(randomProblem(rng, sizes, 1e-2, 1e3));
-  CappedSimplexQp qp(sizes);
-  Eigen::VectorXd dw(104);
-  std::vector<QpActiveSet> sets;
-  long cold_iterations = 0, warm_iterations = 0;
-  for (const Problem& p : problems) {
-    qp.solve(p.Q, p.beta, p.g, p.w, dw);
-    sets.push_back(qp.activeSet());
-  }
-  using clock = std::chrono::steady_clock;
-  const int reps = 4;
-  auto t0 = clock::now();
-  for (int r = 0; r < reps; ++r)
-    for (const Problem& p : problems) cold_iterations += qp.solve(p.Q, p.beta, p.g, p.w, dw).iterations;
-  auto t1 = clock::now();
-  for (int r = 0; r < reps; ++r)
-    for (std::size_t i = 0; i < problems.size(); ++i) {
-      const Problem& p = problems[i];
-      warm_iterations += qp.solve(p.Q, p.beta * 1.01, p.g, p.w, dw, &sets[i]).iterations;
-    }
-  auto t2 = clock::now();
-  const double solves = reps * problems.size();
-  std::cout << "[ qp ] 4x26: cold " << std::chrono::duration<double, std::micro>(t1 - t0).count() / solves
-            << " us/solve (" << cold_iterations / solves << " iterations), warm (beta x1.01) "
-            << std::chrono::duration<double, std::micro>(t2 - t1).count() / solves << " us/solve ("
-            << warm_iterations / solves << " iterations)\n";
 }
 
 }  // namespace

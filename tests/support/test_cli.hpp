@@ -35,14 +35,17 @@ struct CliResult {
   std::string out, err;
 };
 
-// Runs `nmdp ARGS...` with stdout and stderr captured to files in `dir`.
-inline CliResult runNmdp(const std::vector<std::string>& args, const TempDir& dir) {
+// Runs `nmdp ARGS...` with stdout and stderr captured to files in `dir`. A `prefix` (shell commands
+// whose last one executes what follows it, e.g. "ulimit -v 2097152; exec timeout -s KILL 20") runs
+// it through `sh -c`.
+inline CliResult runNmdp(const std::vector<std::string>& args, const TempDir& dir, const std::string& prefix = "") {
   static std::atomic<int> counter{0};
   const int id = counter++;
   const std::filesystem::path out = dir.path() / ("stdout_" + std::to_string(id) + ".txt");
   const std::filesystem::path err = dir.path() / ("stderr_" + std::to_string(id) + ".txt");
   std::string cmd = shellQuote(NMDP_BINARY);
   for (const std::string& a : args) cmd += " " + shellQuote(a);
+  if (!prefix.empty()) cmd = "sh -c " + shellQuote(prefix + " " + cmd);
   cmd += " >" + shellQuote(out.string()) + " 2>" + shellQuote(err.string()) + " </dev/null";
   const int status = std::system(cmd.c_str());
   CliResult r;

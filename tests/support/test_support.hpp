@@ -13,6 +13,7 @@
 #include "common/input_error.hpp"
 #include "multibody/data.hpp"
 #include "multibody/urdf_loader.hpp"
+#include "random_values.hpp"
 
 namespace nmdp::test {
 
@@ -83,13 +84,6 @@ inline std::string inputErrorMessage(const std::function<void()>& f) {
   }
   ADD_FAILURE() << "expected nmdp::InputError, nothing was thrown";
   return "";
-}
-
-inline Eigen::VectorXd randomVector(std::mt19937& rng, int n, double scale) {
-  std::uniform_real_distribution<double> u(-scale, scale);
-  Eigen::VectorXd v(n);
-  for (int i = 0; i < n; ++i) v[i] = u(rng);
-  return v;
 }
 
 // Central finite difference of a vector function: column j = (f(x + e_j ε) − f(x − e_j ε)) / 2ε.
