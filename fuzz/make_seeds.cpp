@@ -125,6 +125,105 @@ std::string joined(const std::vector<std::string>& parts) {
   return out;
 }
 
+void seedScene(const fs::path& root) {
+  Corpus c(root, "scene");
+  for (const fs::path& p : filesIn(source("models/scenes"), ".json")) {
+    const std::string scene = read(p);
+    c.add(scene, true);
+    c.add(scene + "\n--set integrator.method=pbd-zopgm\n--set integrator.dt=0.02\n--set controller.gait.type=trot", true);
+    c.add(scene + "\n--set contacts.model={\"type\": \"rbf\", \"file\": \"../../data/granular/rft_quadruped_rbf.h5\"}" +
+              "\n--set terrain={\"type\": \"heightfield\", \"file\": \"../terrain/gentle_bumps.csv\", \"spacing\": 0.1}",
+          true);
+  }
+}
+
+void seedUrdf(const fs::path& root, const fs::path& shared) {
+  Corpus c(root, "urdf");
+  for (const fs::path& dir : {fs::path(source("models")), fs::path(source("tests/data")), shared / "robots"})
+    for (const fs::path& p : filesIn(dir, ".urdf")) {
+      c.add(read(p));
+      c.xmlWords(read(p));
+    }
+}
+
+void seedStl(const fs::path& root, const fs::path& shared) {
+  Corpus c(root, "stl");
+  c.words({"solid", "facet normal", "outer loop", "vertex", "endloop", "endfacet", "endsolid"});
+  c.add("solid foot\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid foot\n");
+  for (const fs::path& p : filesIn(shared / "robots", ".stl", 200000)) c.add(read(p));
+  for (const fs::path& p : filesIn(shared / "robots", ".STL", 200000)) c.add(read(p));
+}
+
+void seedRbfText(const fs::path& root, const fs::path& shared) {
+  Corpus c(root, "rbf_text");
+  c.words({"\n@@\n", "nan", "inf", "1e308", "#"});
+  const fs::path published = shared / "granular" / "robosimian_sand_rbf";
+  if (fs::exists(published / "inputs.txt")) c.add(joined({read(published / "inputs.txt"), read(published / "weights.txt")}));
+  c.add(joined({"-0.01 0\n-0.03 0.3\n0.05 0\n", "1 2 3\n4 5 6\n7 8 9\n"}));
+}
+
+void seedModelH5(const fs::path& root, const fs::path& scratch) {
+  Corpus c(root, "model_h5");
+  c.words({"group ", "attr ", "dset ", " f64 ", " f32 ", " i64 ", " i32 ", " u8 ", " str ", " fstr ", "nan", "inf", "1e308"});
+  for (const fs::path& p : filesIn(source("data"), ".h5")) c.add(nmdp::fuzz::hdf5ToText(p.string()));
+  // A small MLP of each envelope, written by the program's own writer.
+  nmdp::PlanarGeometry geometry;
+  geometry.torque_centre = 0.05;
+  for (const nmdp::MlpOutputEnvelope envelope : {nmdp::MlpOutputEnvelope::None, nmdp::MlpOutputEnvelope::SoftDepth}) {
+    nmdp::MlpParameters p = nmdp::randomMlpParameters(2, 4, 3, nmdp::MlpActivation::Tanh, 3);
+    p.output_envelope = envelope;
+    p.envelope_width = 0.005;
+    const std::string file = (scratch / "mlp.h5").string();
+    nmdp::saveMlpModel(file, p, geometry);
+    c.add(nmdp::fuzz::hdf5ToText(file));
+  }
+}
+
+void seedDatasetH5(const fs::path& root, const fs::path& scratch) {
+  Corpus c(root, "dataset_h5");
+  c.words({"group ", "attr ", "dset ", " f64 ", " f32 ", " i64 ", " i32 ", " u8 ", " str ", " fstr ", "nan", "inf", "1e308"});
+  const std::string file = (scratch / "data.h5").string();
+  nmdp::writeForceDataset(file, nmdp::importSandSamplesCsv(source("data/granular/rft_quadruped_samples")));
+  c.add(nmdp::fuzz::hdf5ToText(file));
+}
+
+void seedForceCsv(const fs::path& root, const fs::path& shared) {
+  Corpus c(root, "force_csv");
+  c.words({"depth,theta", "depth,theta,vel_index,fx,fz,wy", "Nvel ", "Ntheta ", "cT ", "\n@@\n", "nan", "inf", "1e308"});
+  for (const fs::path& dir : {fs::path(source("data/granular/rft_quadruped_samples")), shared / "granular" / "sand_samples"})
+    if (fs::exists(dir / "features.csv"))
+      c.add(joined({read(dir / "features.csv"), read(dir / "wrench_samples.csv"), read(dir / "scalars.txt")}));
+}
+
+void seedHeightfieldCsv(const fs::path& root) {
+  Corpus c(root, "heightfield_csv");
+  c.words({"nan", "inf", "1e308", "#", ","});
+  for (const fs::path& p : filesIn(source("models/terrain"), ".csv")) c.add(read(p));
+  c.add("# heights, m\n0, 0.01\n0.02, 0.03\n");
+}
+
+void seedKeyframes(const fs::path& root) {
+  Corpus c(root, "keyframes");
+  c.words({"time,", "FL_knee_joint", "FR_hip_joint", "\"times\"", "\"joints\"", "nan", "1e308"});
+  c.add("time,FL_knee_joint,FR_knee_joint\n0,-1.2,-1.2\n0.5,-1.5,-1.0\n1,-1.2,-1.2\n");
+  c.add("{\"times\": [0, 0.5, 1], \"joints\": {\"FL_knee_joint\": [-1.2, -1.5, -1.2], \"FL_hip_joint\": [0, 0.1, 0]}}", true);
+}
+
+void seedFitConfig(const fs::path& root) {
+  Corpus c(root, "fit_config");
+  for (const fs::path& p : filesIn(source("data/granular"), "_fit.json")) c.add(read(p), true);
+  c.add("{}", true);
+}
+
+void seedRftConfig(const fs::path& root) {
+  Corpus c(root, "rft_config");
+  c.add(read(source("data/granular/rft_quadruped_foot.json")), true);
+  c.add(read(source("data/granular/rft_quadruped_samples/rft_config.json")), true);
+  c.add("{\"foot\": {\"shape\": \"plate\", \"length\": 0.05, \"width\": 0.02, \"elements\": 20}, \"grid\": "
+        "{\"depths\": [-0.01], \"angles\": [0, 0.5], \"directions\": {\"type\": \"cube\", \"rotation_radius\": 0.05}}}",
+        true);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -137,94 +236,17 @@ int main(int argc, char** argv) {
   const fs::path scratch = root / "scratch";
   fs::create_directories(scratch);
 
-  {
-    Corpus c(root, "scene");
-    for (const fs::path& p : filesIn(source("models/scenes"), ".json")) {
-      const std::string scene = read(p);
-      c.add(scene, true);
-      c.add(scene + "\n--set integrator.method=pbd-zopgm\n--set integrator.dt=0.02\n--set controller.gait.type=trot", true);
-      c.add(scene + "\n--set contacts.model={\"type\": \"rbf\", \"file\": \"../../data/granular/rft_quadruped_rbf.h5\"}" +
-                "\n--set terrain={\"type\": \"heightfield\", \"file\": \"../terrain/gentle_bumps.csv\", \"spacing\": 0.1}",
-            true);
-    }
-  }
-  {
-    Corpus c(root, "urdf");
-    for (const fs::path& dir : {fs::path(source("models")), fs::path(source("tests/data")), shared / "robots"})
-      for (const fs::path& p : filesIn(dir, ".urdf")) {
-        c.add(read(p));
-        c.xmlWords(read(p));
-      }
-  }
-  {
-    Corpus c(root, "stl");
-    c.words({"solid", "facet normal", "outer loop", "vertex", "endloop", "endfacet", "endsolid"});
-    c.add("solid foot\nfacet normal 0 0 1\nouter loop\nvertex 0 0 0\nvertex 1 0 0\nvertex 0 1 0\nendloop\nendfacet\nendsolid foot\n");
-    for (const fs::path& p : filesIn(shared / "robots", ".stl", 200000)) c.add(read(p));
-    for (const fs::path& p : filesIn(shared / "robots", ".STL", 200000)) c.add(read(p));
-  }
-  {
-    Corpus c(root, "rbf_text");
-    c.words({"\n@@\n", "nan", "inf", "1e308", "#"});
-    const fs::path published = shared / "granular" / "robosimian_sand_rbf";
-    if (fs::exists(published / "inputs.txt")) c.add(joined({read(published / "inputs.txt"), read(published / "weights.txt")}));
-    c.add(joined({"-0.01 0\n-0.03 0.3\n0.05 0\n", "1 2 3\n4 5 6\n7 8 9\n"}));
-  }
-  {
-    Corpus c(root, "model_h5");
-    c.words({"group ", "attr ", "dset ", " f64 ", " f32 ", " i64 ", " i32 ", " u8 ", " str ", " fstr ", "nan", "inf", "1e308"});
-    for (const fs::path& p : filesIn(source("data"), ".h5")) c.add(nmdp::fuzz::hdf5ToText(p.string()));
-    // A small MLP of each envelope, written by the program's own writer.
-    nmdp::PlanarGeometry geometry;
-    geometry.torque_centre = 0.05;
-    for (const nmdp::MlpOutputEnvelope envelope : {nmdp::MlpOutputEnvelope::None, nmdp::MlpOutputEnvelope::SoftDepth}) {
-      nmdp::MlpParameters p = nmdp::randomMlpParameters(2, 4, 3, nmdp::MlpActivation::Tanh, 3);
-      p.output_envelope = envelope;
-      p.envelope_width = 0.005;
-      const std::string file = (scratch / "mlp.h5").string();
-      nmdp::saveMlpModel(file, p, geometry);
-      c.add(nmdp::fuzz::hdf5ToText(file));
-    }
-  }
-  {
-    Corpus c(root, "dataset_h5");
-    c.words({"group ", "attr ", "dset ", " f64 ", " f32 ", " i64 ", " i32 ", " u8 ", " str ", " fstr ", "nan", "inf", "1e308"});
-    const std::string file = (scratch / "data.h5").string();
-    nmdp::writeForceDataset(file, nmdp::importSandSamplesCsv(source("data/granular/rft_quadruped_samples")));
-    c.add(nmdp::fuzz::hdf5ToText(file));
-  }
-  {
-    Corpus c(root, "force_csv");
-    c.words({"depth,theta", "depth,theta,vel_index,fx,fz,wy", "Nvel ", "Ntheta ", "cT ", "\n@@\n", "nan", "inf", "1e308"});
-    for (const fs::path& dir : {fs::path(source("data/granular/rft_quadruped_samples")), shared / "granular" / "sand_samples"})
-      if (fs::exists(dir / "features.csv"))
-        c.add(joined({read(dir / "features.csv"), read(dir / "wrench_samples.csv"), read(dir / "scalars.txt")}));
-  }
-  {
-    Corpus c(root, "heightfield_csv");
-    c.words({"nan", "inf", "1e308", "#", ","});
-    for (const fs::path& p : filesIn(source("models/terrain"), ".csv")) c.add(read(p));
-    c.add("# heights, m\n0, 0.01\n0.02, 0.03\n");
-  }
-  {
-    Corpus c(root, "keyframes");
-    c.words({"time,", "FL_knee_joint", "FR_hip_joint", "\"times\"", "\"joints\"", "nan", "1e308"});
-    c.add("time,FL_knee_joint,FR_knee_joint\n0,-1.2,-1.2\n0.5,-1.5,-1.0\n1,-1.2,-1.2\n");
-    c.add("{\"times\": [0, 0.5, 1], \"joints\": {\"FL_knee_joint\": [-1.2, -1.5, -1.2], \"FL_hip_joint\": [0, 0.1, 0]}}", true);
-  }
-  {
-    Corpus c(root, "fit_config");
-    for (const fs::path& p : filesIn(source("data/granular"), "_fit.json")) c.add(read(p), true);
-    c.add("{}", true);
-  }
-  {
-    Corpus c(root, "rft_config");
-    c.add(read(source("data/granular/rft_quadruped_foot.json")), true);
-    c.add(read(source("data/granular/rft_quadruped_samples/rft_config.json")), true);
-    c.add("{\"foot\": {\"shape\": \"plate\", \"length\": 0.05, \"width\": 0.02, \"elements\": 20}, \"grid\": "
-          "{\"depths\": [-0.01], \"angles\": [0, 0.5], \"directions\": {\"type\": \"cube\", \"rotation_radius\": 0.05}}}",
-          true);
-  }
+  seedScene(root);
+  seedUrdf(root, shared);
+  seedStl(root, shared);
+  seedRbfText(root, shared);
+  seedModelH5(root, scratch);
+  seedDatasetH5(root, scratch);
+  seedForceCsv(root, shared);
+  seedHeightfieldCsv(root);
+  seedKeyframes(root);
+  seedFitConfig(root);
+  seedRftConfig(root);
   fs::remove_all(scratch);
   std::cout << "seed corpora written to " << root.string() << "\n";
   return 0;

@@ -52,6 +52,19 @@ constexpr EnumName<MlpJacobian> kJacobians[] = {{MlpJacobian::ForwardMode, "forw
                                                 {MlpJacobian::DoubleBackward, "double-backward"},
                                                 {MlpJacobian::Tangents, "tangents"}};
 
+// The normalized input of R rows (the batch repeated), augmented with a column of ones (layer 0
+// holds its bias as a weight row).
+RowMatrixX3 augmentedInput(const Eigen::MatrixX2d& features, const Eigen::RowVector2d& mean,
+                           const Eigen::RowVector2d& inv_std, Eigen::Index R) {
+  const Eigen::Index B = features.rows();
+  RowMatrixX3 x(R, 3);
+  for (Eigen::Index r = 0; r < R; ++r) {
+    x.block<1, 2>(r, 0) = (features.row(r % B) - mean).cwiseProduct(inv_std);
+    x(r, 2) = 1.0;
+  }
+  return x;
+}
+
 }  // namespace
 
 // ----- activations and parameters ----------------------------------------------------------------
@@ -441,13 +454,8 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
     if (outputs[d]) directions[D++] = d;
   const Eigen::Index R = B * std::max(D, 1);
 
-  // The normalized input augmented with a column of ones (layer 0 holds its bias as a weight row).
   const Eigen::RowVector2d inv_std = params_.input_std.cwiseInverse().transpose();
-  RowMatrixX3 x(R, 3);
-  for (Eigen::Index r = 0; r < R; ++r) {
-    x.block<1, 2>(r, 0) = (features.row(r % B) - params_.input_mean.transpose()).cwiseProduct(inv_std);
-    x(r, 2) = 1.0;
-  }
+  RowMatrixX3 x = augmentedInput(features, params_.input_mean.transpose(), inv_std, R);
   const auto options = torch::TensorOptions().dtype(torch::kFloat64);
   const torch::Tensor input = torch::from_blob(x.data(), {R, 3}, options);
   const Torch& t = *torch_;

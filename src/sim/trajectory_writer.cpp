@@ -57,13 +57,9 @@ std::string spaceShortage(const std::string& folder, long long file_size, long l
 
 void TrajectoryWriter::error(const std::string& what) const { throw InputError(path_ + ": " + what); }
 
-TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayout& layout)
-    : path_(path),
-      n_(static_cast<int>(layout.joint_names.size())),
-      C_(static_cast<int>(layout.contact_names.size())),
-      flush_every_(layout.flush_every),
-      flush_interval_(layout.flush_interval),
-      chunk_rows_(layout.chunk_rows) {
+namespace {
+// A layout the writer cannot honour is a programming error, not bad input.
+void checkLayout(const TrajectoryLayout& layout) {
   if (layout.flush_every < 1) throw std::invalid_argument("TrajectoryLayout::flush_every must be >= 1");
   if (layout.chunk_rows < 1) throw std::invalid_argument("TrajectoryLayout::chunk_rows must be >= 1");
   for (const auto& [name, value] : layout.string_attributes)
@@ -72,142 +68,24 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
   for (const auto& [name, value] : layout.number_attributes)
     if (name == "config" || name == "nmdp_output" || layout.string_attributes.count(name))
       throw std::invalid_argument("TrajectoryLayout: duplicate root attribute '" + name + "'");
-  silenceHdf5();
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  const fs::path parent = fs::absolute(fs::path(path), ec).parent_path();
-  if (ec || !fs::is_directory(parent, ec))
-    error("cannot create the trajectory file: the folder " + parent.string() + " does not exist");
-  if (fs::is_directory(path, ec)) error("cannot create the trajectory file: a folder of that name exists");
-  folder_ = parent.string();
-  // One chunk of every per-step dataset: time, q, qdot, base position and rpy, wrench, 3 int32
-  // stats, 2 float64 stats, converged.
-  chunk_bytes_ = static_cast<long long>(chunk_rows_) * (8 + 16LL * n_ + 48 + 48LL * C_ + 12 + 16 + 1);
-  // The metadata written with the first chunk (groups, names, attributes, the chunk indexes): a
-  // generous bound, so that a file that starts always ends.
-  const long long first_metadata = 64 * 1024 + 2 * static_cast<long long>(layout.config_json.size());
-  if (const std::string shortage = spaceShortage(folder_, 0, chunk_bytes_ + first_metadata, kSpaceReserve);
-      !shortage.empty())
-    throw OutOfSpace(path_ + ": cannot start the run: " + shortage);
+}
+}  // namespace
 
-  // The latest format, which SWMR needs; file locking where the file system offers it. No chunk
-  // cache, for every dataset (H5Fstart_swmr_write reopens the datasets with the file's default): a
-  // row goes straight to its allocated place, and a flush writes the rows, not whole chunks.
-  Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
-  H5Pset_libver_bounds(fapl.id, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
-  H5Pset_file_locking(fapl.id, 1, 1);
-  if (H5Pset_cache(fapl.id, 0, 0, 0, 1.0) < 0) error("cannot configure the HDF5 chunk cache");
-  // Paged file space: every metadata block smaller than a page lies within one 4 kB page.
-  Handle fcpl{H5Pcreate(H5P_FILE_CREATE), H5Pclose};
-  H5Pset_file_space_strategy(fcpl.id, H5F_FSPACE_STRATEGY_PAGE, 0, 1);
-  H5Pset_file_space_page_size(fcpl.id, 4096);
-  std::string partial;
-  for (int attempt = 0; file_ < 0; ++attempt) {
-    partial = temporaryPathFor(path);
-    file_ = H5Fcreate(partial.c_str(), H5F_ACC_EXCL, fcpl.id, fapl.id);
-    if (file_ < 0 && !(pathExists(partial) && attempt < 100))
-      error("cannot create the trajectory file (is the folder writable?)");
-  }
+TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayout& layout)
+    : path_(path),
+      n_(static_cast<int>(layout.joint_names.size())),
+      C_(static_cast<int>(layout.contact_names.size())),
+      flush_every_(layout.flush_every),
+      flush_interval_(layout.flush_interval),
+      chunk_rows_(layout.chunk_rows) {
+  checkLayout(layout);
+  prepareFolder(layout);
+  const std::string partial = createPartialFile();
   try {
-    for (const char* g : {"/base", "/contacts", "/stats"}) {
-      Handle group{H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
-      if (group.id < 0) error(std::string("cannot create group '") + g + "'");
-    }
-    const hsize_t chunk_rows = static_cast<hsize_t>(layout.chunk_rows);
-    // Every per-step dataset: chunked, rows unlimited; its first chunk allocated and filled now (NaN
-    // for float64, 0 for integers), and so is every chunk growth adds.
-    Handle dapl{H5Pcreate(H5P_DATASET_ACCESS), H5Pclose};
-    if (H5Pset_chunk_cache(dapl.id, 0, 0, 1.0) < 0) error("cannot configure the HDF5 chunk cache");
-    auto create = [&](Column& c, const char* name, hid_t file_type, hid_t mem_type, int rank, hsize_t d1, hsize_t d2) {
-      c.rank = rank;
-      c.memtype = mem_type;
-      c.dims[0] = chunk_rows;
-      c.dims[1] = d1;
-      c.dims[2] = d2;
-      hsize_t maxdims[3] = {H5S_UNLIMITED, d1, d2}, chunk[3] = {chunk_rows, std::max<hsize_t>(d1, 1), std::max<hsize_t>(d2, 1)};
-      for (int i = 1; i < rank; ++i)
-        if (c.dims[i] == 0) maxdims[i] = H5S_UNLIMITED;  // a zero-size fixed dimension cannot be chunked
-      Handle space{H5Screate_simple(rank, c.dims, maxdims), H5Sclose};
-      Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
-      H5Pset_chunk(dcpl.id, rank, chunk);
-      H5Pset_alloc_time(dcpl.id, H5D_ALLOC_TIME_EARLY);
-      H5Pset_fill_time(dcpl.id, H5D_FILL_TIME_ALLOC);
-      H5Pset_obj_track_times(dcpl.id, 0);  // no modification time to update
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      const long long zero = 0;
-      if (H5Tget_class(file_type) == H5T_FLOAT ? H5Pset_fill_value(dcpl.id, H5T_NATIVE_DOUBLE, &nan) < 0
-                                                : H5Pset_fill_value(dcpl.id, H5T_NATIVE_LLONG, &zero) < 0)
-        error(std::string("cannot set the fill value of '") + name + "'");
-      c.dataset = H5Dcreate2(file_, name, file_type, space.id, H5P_DEFAULT, dcpl.id, dapl.id);
-      if (c.dataset < 0) error(std::string("cannot create dataset '") + name + "' (disk full?)");
-      c.filespace = H5Dget_space(c.dataset);
-      hsize_t block[3] = {static_cast<hsize_t>(flush_every_), d1, d2};
-      c.memspace = H5Screate_simple(rank, block, nullptr);
-      c.row_bytes = H5Tget_size(mem_type) * (rank > 1 ? d1 : 1) * (rank > 2 ? d2 : 1);
-      c.rows.assign(c.row_bytes * static_cast<size_t>(flush_every_), 0);
-    };
-    create(data_[kQ], "/q", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, n_, 0);
-    create(data_[kQd], "/qdot", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, n_, 0);
-    create(data_[kBasePos], "/base/position", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, 3, 0);
-    create(data_[kBaseRpy], "/base/rpy", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, 3, 0);
-    create(data_[kWrench], "/contacts/wrench", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 3, C_, 6);
-    create(data_[kOuter], "/stats/outer_iterations", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
-    create(data_[kGEval], "/stats/g_evaluations", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
-    create(data_[kSub], "/stats/substeps", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
-    create(data_[kMinSub], "/stats/min_substep", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
-    create(data_[kWall], "/stats/wall_time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
-    create(data_[kErr], "/stats/error_estimate", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
-    create(data_[kConv], "/stats/converged", H5T_STD_U8LE, H5T_NATIVE_UINT8, 1, 0, 0);
-    create(data_[kTime], "/time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
+    createColumns();
     extent_ = layout.chunk_rows;
-
-    auto writeNames = [&](const char* name, const std::vector<std::string>& values) {
-      const hsize_t dims[1] = {values.size()};
-      Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
-      Handle type{variableString(), H5Tclose};
-      std::vector<const char*> raw;
-      for (const std::string& s : values) raw.push_back(s.c_str());
-      Handle d{H5Dcreate2(file_, name, type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
-      if (d.id < 0 || (!raw.empty() && H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0))
-        error(std::string("cannot write dataset '") + name + "'");
-    };
-    writeNames("/joint_names", layout.joint_names);
-    writeNames("/contacts/names", layout.contact_names);
-
-    auto stringAttribute = [&](const std::string& name, const std::string& value) {
-      Handle type{variableString(), H5Tclose};
-      Handle space{H5Screate(H5S_SCALAR), H5Sclose};
-      Handle a{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-      const char* raw = value.c_str();
-      if (a.id < 0 || H5Awrite(a.id, type.id, &raw) < 0) error("cannot write root attribute '" + name + "'");
-    };
-    stringAttribute("config", layout.config_json);
-    stringAttribute("nmdp_output", "trajectory");
-    for (const auto& [name, value] : layout.string_attributes) stringAttribute(name, value);
-    for (const auto& [name, value] : layout.number_attributes) {
-      Handle space{H5Screate(H5S_SCALAR), H5Sclose};
-      Handle a{H5Acreate2(file_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
-      if (a.id < 0 || H5Awrite(a.id, H5T_NATIVE_DOUBLE, &value) < 0) error("cannot write root attribute '" + name + "'");
-    }
-
-    // /status and /steps: contiguous and allocated now, so each update rewrites the same bytes in place.
-    status_type_ = H5Tcopy(H5T_C_S1);
-    H5Tset_size(status_type_, kStatusBytes);
-    H5Tset_strpad(status_type_, H5T_STR_NULLTERM);
-    H5Tset_cset(status_type_, H5T_CSET_UTF8);
-    {
-      Handle space{H5Screate(H5S_SCALAR), H5Sclose};
-      Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
-      H5Pset_layout(dcpl.id, H5D_CONTIGUOUS);
-      H5Pset_alloc_time(dcpl.id, H5D_ALLOC_TIME_EARLY);
-      H5Pset_obj_track_times(dcpl.id, 0);
-      status_dataset_ = H5Dcreate2(file_, "/status", status_type_, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
-      if (status_dataset_ < 0) error("cannot create dataset '/status'");
-      steps_dataset_ = H5Dcreate2(file_, "/steps", H5T_STD_I64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
-      if (steps_dataset_ < 0) error("cannot create dataset '/steps'");
-    }
-    status_buffer_.assign(kStatusBytes, '\0');
-    wrench_buffer_.assign(static_cast<size_t>(C_) * 6, 0.0);
+    writeDescription(layout);
+    createStatusDatasets();
     writeStatus("running");
     writeSteps(0);
     // From here on HDF5 orders its metadata writes so that the file is valid whenever it stops
@@ -222,12 +100,164 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
   }
   // Replace an existing file only now that the new one is complete (the open descriptor follows the
   // rename).
+  std::error_code ec;
   std::filesystem::rename(partial, path, ec);
   if (ec) {
     closeAll();
     std::remove(partial.c_str());
     error("cannot move the new trajectory file into place: " + ec.message());
   }
+}
+
+void TrajectoryWriter::prepareFolder(const TrajectoryLayout& layout) {
+  silenceHdf5();
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path parent = fs::absolute(fs::path(path_), ec).parent_path();
+  if (ec || !fs::is_directory(parent, ec))
+    error("cannot create the trajectory file: the folder " + parent.string() + " does not exist");
+  if (fs::is_directory(path_, ec)) error("cannot create the trajectory file: a folder of that name exists");
+  folder_ = parent.string();
+  // One chunk of every per-step dataset: time, q, qdot, base position and rpy, wrench, 3 int32
+  // stats, 2 float64 stats, converged.
+  chunk_bytes_ = static_cast<long long>(chunk_rows_) * (8 + 16LL * n_ + 48 + 48LL * C_ + 12 + 16 + 1);
+  // The metadata written with the first chunk (groups, names, attributes, the chunk indexes): a
+  // generous bound, so that a file that starts always ends.
+  const long long first_metadata = 64 * 1024 + 2 * static_cast<long long>(layout.config_json.size());
+  if (const std::string shortage = spaceShortage(folder_, 0, chunk_bytes_ + first_metadata, kSpaceReserve);
+      !shortage.empty())
+    throw OutOfSpace(path_ + ": cannot start the run: " + shortage);
+
+}
+
+std::string TrajectoryWriter::createPartialFile() {
+  // The latest format, which SWMR needs; file locking where the file system offers it. No chunk
+  // cache, for every dataset (H5Fstart_swmr_write reopens the datasets with the file's default): a
+  // row goes straight to its allocated place, and a flush writes the rows, not whole chunks.
+  Handle fapl{H5Pcreate(H5P_FILE_ACCESS), H5Pclose};
+  H5Pset_libver_bounds(fapl.id, H5F_LIBVER_LATEST, H5F_LIBVER_LATEST);
+  H5Pset_file_locking(fapl.id, 1, 1);
+  if (H5Pset_cache(fapl.id, 0, 0, 0, 1.0) < 0) error("cannot configure the HDF5 chunk cache");
+  // Paged file space: every metadata block smaller than a page lies within one 4 kB page.
+  Handle fcpl{H5Pcreate(H5P_FILE_CREATE), H5Pclose};
+  H5Pset_file_space_strategy(fcpl.id, H5F_FSPACE_STRATEGY_PAGE, 0, 1);
+  H5Pset_file_space_page_size(fcpl.id, 4096);
+  std::string partial;
+  for (int attempt = 0; file_ < 0; ++attempt) {
+    partial = temporaryPathFor(path_);
+    file_ = H5Fcreate(partial.c_str(), H5F_ACC_EXCL, fcpl.id, fapl.id);
+    if (file_ < 0 && !(pathExists(partial) && attempt < 100))
+      error("cannot create the trajectory file (is the folder writable?)");
+  }
+  return partial;
+}
+
+void TrajectoryWriter::createColumn(Column& c, const char* name, long long file_type, long long mem_type, int rank,
+                                    unsigned long long d1, unsigned long long d2) {
+  const hsize_t chunk_rows = static_cast<hsize_t>(chunk_rows_);
+  // Every per-step dataset: chunked, rows unlimited; its first chunk allocated and filled now (NaN
+  // for float64, 0 for integers), and so is every chunk growth adds.
+  Handle dapl{H5Pcreate(H5P_DATASET_ACCESS), H5Pclose};
+  if (H5Pset_chunk_cache(dapl.id, 0, 0, 1.0) < 0) error("cannot configure the HDF5 chunk cache");
+  c.rank = rank;
+  c.memtype = mem_type;
+  c.dims[0] = chunk_rows;
+  c.dims[1] = d1;
+  c.dims[2] = d2;
+  hsize_t maxdims[3] = {H5S_UNLIMITED, d1, d2}, chunk[3] = {chunk_rows, std::max<hsize_t>(d1, 1), std::max<hsize_t>(d2, 1)};
+  for (int i = 1; i < rank; ++i)
+    if (c.dims[i] == 0) maxdims[i] = H5S_UNLIMITED;  // a zero-size fixed dimension cannot be chunked
+  Handle space{H5Screate_simple(rank, c.dims, maxdims), H5Sclose};
+  Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+  H5Pset_chunk(dcpl.id, rank, chunk);
+  H5Pset_alloc_time(dcpl.id, H5D_ALLOC_TIME_EARLY);
+  H5Pset_fill_time(dcpl.id, H5D_FILL_TIME_ALLOC);
+  H5Pset_obj_track_times(dcpl.id, 0);  // no modification time to update
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const long long zero = 0;
+  if (H5Tget_class(file_type) == H5T_FLOAT ? H5Pset_fill_value(dcpl.id, H5T_NATIVE_DOUBLE, &nan) < 0
+                                            : H5Pset_fill_value(dcpl.id, H5T_NATIVE_LLONG, &zero) < 0)
+    error(std::string("cannot set the fill value of '") + name + "'");
+  c.dataset = H5Dcreate2(file_, name, file_type, space.id, H5P_DEFAULT, dcpl.id, dapl.id);
+  if (c.dataset < 0) error(std::string("cannot create dataset '") + name + "' (disk full?)");
+  c.filespace = H5Dget_space(c.dataset);
+  hsize_t block[3] = {static_cast<hsize_t>(flush_every_), d1, d2};
+  c.memspace = H5Screate_simple(rank, block, nullptr);
+  c.row_bytes = H5Tget_size(mem_type) * (rank > 1 ? d1 : 1) * (rank > 2 ? d2 : 1);
+  c.rows.assign(c.row_bytes * static_cast<size_t>(flush_every_), 0);
+}
+
+void TrajectoryWriter::createColumns() {
+  for (const char* g : {"/base", "/contacts", "/stats"}) {
+    Handle group{H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
+    if (group.id < 0) error(std::string("cannot create group '") + g + "'");
+  }
+  createColumn(data_[kQ], "/q", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, n_, 0);
+  createColumn(data_[kQd], "/qdot", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, n_, 0);
+  createColumn(data_[kBasePos], "/base/position", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, 3, 0);
+  createColumn(data_[kBaseRpy], "/base/rpy", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, 3, 0);
+  createColumn(data_[kWrench], "/contacts/wrench", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 3, C_, 6);
+  createColumn(data_[kOuter], "/stats/outer_iterations", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
+  createColumn(data_[kGEval], "/stats/g_evaluations", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
+  createColumn(data_[kSub], "/stats/substeps", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
+  createColumn(data_[kMinSub], "/stats/min_substep", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
+  createColumn(data_[kWall], "/stats/wall_time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
+  createColumn(data_[kErr], "/stats/error_estimate", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
+  createColumn(data_[kConv], "/stats/converged", H5T_STD_U8LE, H5T_NATIVE_UINT8, 1, 0, 0);
+  createColumn(data_[kTime], "/time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
+
+}
+
+void TrajectoryWriter::writeDescription(const TrajectoryLayout& layout) {
+  auto writeNames = [&](const char* name, const std::vector<std::string>& values) {
+    const hsize_t dims[1] = {values.size()};
+    Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
+    Handle type{variableString(), H5Tclose};
+    std::vector<const char*> raw;
+    for (const std::string& s : values) raw.push_back(s.c_str());
+    Handle d{H5Dcreate2(file_, name, type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+    if (d.id < 0 || (!raw.empty() && H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0))
+      error(std::string("cannot write dataset '") + name + "'");
+  };
+  writeNames("/joint_names", layout.joint_names);
+  writeNames("/contacts/names", layout.contact_names);
+
+  auto stringAttribute = [&](const std::string& name, const std::string& value) {
+    Handle type{variableString(), H5Tclose};
+    Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+    Handle a{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    const char* raw = value.c_str();
+    if (a.id < 0 || H5Awrite(a.id, type.id, &raw) < 0) error("cannot write root attribute '" + name + "'");
+  };
+  stringAttribute("config", layout.config_json);
+  stringAttribute("nmdp_output", "trajectory");
+  for (const auto& [name, value] : layout.string_attributes) stringAttribute(name, value);
+  for (const auto& [name, value] : layout.number_attributes) {
+    Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+    Handle a{H5Acreate2(file_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    if (a.id < 0 || H5Awrite(a.id, H5T_NATIVE_DOUBLE, &value) < 0) error("cannot write root attribute '" + name + "'");
+  }
+}
+
+void TrajectoryWriter::createStatusDatasets() {
+  // /status and /steps: contiguous and allocated now, so each update rewrites the same bytes in place.
+  status_type_ = H5Tcopy(H5T_C_S1);
+  H5Tset_size(status_type_, kStatusBytes);
+  H5Tset_strpad(status_type_, H5T_STR_NULLTERM);
+  H5Tset_cset(status_type_, H5T_CSET_UTF8);
+  {
+    Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+    Handle dcpl{H5Pcreate(H5P_DATASET_CREATE), H5Pclose};
+    H5Pset_layout(dcpl.id, H5D_CONTIGUOUS);
+    H5Pset_alloc_time(dcpl.id, H5D_ALLOC_TIME_EARLY);
+    H5Pset_obj_track_times(dcpl.id, 0);
+    status_dataset_ = H5Dcreate2(file_, "/status", status_type_, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
+    if (status_dataset_ < 0) error("cannot create dataset '/status'");
+    steps_dataset_ = H5Dcreate2(file_, "/steps", H5T_STD_I64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
+    if (steps_dataset_ < 0) error("cannot create dataset '/steps'");
+  }
+  status_buffer_.assign(kStatusBytes, '\0');
+  wrench_buffer_.assign(static_cast<size_t>(C_) * 6, 0.0);
 }
 
 TrajectoryWriter::~TrajectoryWriter() {

@@ -156,6 +156,15 @@ class TrajectoryWriter {
   };
   enum Col { kTime, kQ, kQd, kBasePos, kBaseRpy, kWrench, kOuter, kGEval, kSub, kMinSub, kWall, kConv, kErr, kNumData };
 
+  // The constructor's steps: the folder and the room for the first chunk; the file under a temporary
+  // name (returned); the per-step datasets; names and attributes; /status and /steps.
+  void prepareFolder(const TrajectoryLayout& layout);
+  std::string createPartialFile();
+  void createColumn(Column& c, const char* name, long long file_type, long long mem_type, int rank,
+                    unsigned long long d1, unsigned long long d2);  // hid_t, hsize_t
+  void createColumns();
+  void writeDescription(const TrajectoryLayout& layout);
+  void createStatusDatasets();
   void stage(Column& c, const void* row);  // copy into the pending rows
   void writeRows(Column& c);              // write the pending rows in place
   void setExtent(long rows);              // every per-step dataset (metadata change)
