@@ -62,12 +62,7 @@ struct Configuration {
 RunResult run(const Model& model, const Configuration& configuration, double dt, double duration) {
   CoulombModel contact_model;
   PlaneTerrain terrain;
-  System system;
-  system.model = &model;
-  system.contacts = footContactPoints(model);
-  system.contact_model = &contact_model;
-  system.terrain = &terrain;
-  system.gains = massScaledPdGains(model);
+  System system = systemOnFeet(model, contact_model, terrain, massScaledPdGains(model));
   IntegratorOptions options;
   options.method = configuration.method;
   options.kinetic_energy = configuration.kinetic_energy;
@@ -121,22 +116,14 @@ int main(int argc, char** argv) {
   const KineticEnergyMeasure body = KineticEnergyMeasure::FullBody, points = KineticEnergyMeasure::ContactPoints,
                              body_pd = KineticEnergyMeasure::FullBodyPd;
   const ZerothOrderJacobian dropped = ZerothOrderJacobian::Dropped;
+  std::vector<Configuration> methods;
+  for (const KineticEnergyMeasure k : {body, points, body_pd}) {
+    for (const Method m : {Method::NePgm, Method::NeZopgm, Method::PbdPgm, Method::PbdZopgm}) methods.push_back({m, k});
+    if (k == body) methods.push_back({Method::NeMdp, body});
+  }
   // The paper's zeroth-order Jacobian takes minutes per run: once each.
-  const std::vector<Configuration> methods = {{Method::NePgm, body},
-                                              {Method::NeZopgm, body},
-                                              {Method::PbdPgm, body},
-                                              {Method::PbdZopgm, body},
-                                              {Method::NeMdp, body},
-                                              {Method::NePgm, points},
-                                              {Method::NeZopgm, points},
-                                              {Method::PbdPgm, points},
-                                              {Method::PbdZopgm, points},
-                                              {Method::NePgm, body_pd},
-                                              {Method::NeZopgm, body_pd},
-                                              {Method::PbdPgm, body_pd},
-                                              {Method::PbdZopgm, body_pd},
-                                              {Method::NeZopgm, body, dropped, 1},
-                                              {Method::PbdZopgm, body, dropped, 1}};
+  methods.push_back({Method::NeZopgm, body, dropped, 1});
+  methods.push_back({Method::PbdZopgm, body, dropped, 1});
   std::vector<std::vector<RunResult>> results(methods.size());
   for (int rep = 0; rep < repeats; ++rep)
     for (size_t m = 0; m < methods.size(); ++m)

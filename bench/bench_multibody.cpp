@@ -73,17 +73,9 @@ struct Scene {
     theta = q_n + h * qd_n + randomVector(rng, n, 0.01);
     const Eigen::VectorXd q_prev = q_n - h * qd_n;
 
-    G.setZero(n);
-    dG.setZero(n, n);
-    grad.setZero(n);
-    grad_g.setZero(n);
-    hess.setZero(n, n);
-    hess_g.setZero(n, n);
+    for (Eigen::VectorXd* x : {&G, &grad, &grad_g, &x_work, &tau_plus}) x->setZero(n);
+    for (Eigen::MatrixXd* x : {&dG, &hess, &hess_g, &fd_dq, &fd_dv}) x->setZero(n, n);
     J.setZero(6, n);
-    x_work.setZero(n);
-    tau_plus.setZero(n);
-    fd_dq.setZero(n, n);
-    fd_dv.setZero(n, n);
 
     // PBD inertial targets C_k = (1+α) T_k(q_n) − α T_k(q_{n−1}), α = 1.
     BodyTransforms current, previous;
@@ -241,32 +233,35 @@ void PbdEnergyGradHess(benchmark::State& state, Scene* s) {
   }
 }
 
+// Column j of `out` = (f(x0 + eps e_j) − f(x0 − eps e_j)) / 2 eps, where `evaluate(x)` leaves f(x)
+// in `value`; `x` and `plus` are work vectors.
+template <class Evaluate>
+void centralColumns(Eigen::VectorXd& x, const Eigen::VectorXd& x0, double eps, Eigen::VectorXd& plus,
+                    const Eigen::VectorXd& value, Eigen::MatrixXd& out, Evaluate evaluate) {
+  const double inv = 1.0 / (2 * eps);
+  x = x0;
+  for (Eigen::Index j = 0; j < x0.size(); ++j) {
+    x[j] = x0[j] + eps;
+    evaluate(x);
+    plus = value;
+    x[j] = x0[j] - eps;
+    evaluate(x);
+    out.col(j) = (plus - value) * inv;
+    x[j] = x0[j];
+  }
+}
+
 // ∂τ/∂q and ∂τ/∂q̇ by central differences: 4n RNEA calls (H would cost n more; not counted).
 void RneaDerivativesFiniteDifference(benchmark::State& state, Scene* s) {
   const Model& m = s->model;
-  const int n = m.nq;
-  const double eps = 1e-6, inv = 1.0 / (2 * eps);
+  const double eps = 1e-6;
   for (auto _ : state) {
-    s->x_work = s->q;
-    for (int j = 0; j < n; ++j) {
-      s->x_work[j] = s->q[j] + eps;
-      rnea(m, s->fd, s->x_work, s->qd, s->qdd);
-      s->tau_plus = s->fd.tau;
-      s->x_work[j] = s->q[j] - eps;
-      rnea(m, s->fd, s->x_work, s->qd, s->qdd);
-      s->fd_dq.col(j) = (s->tau_plus - s->fd.tau) * inv;
-      s->x_work[j] = s->q[j];
-    }
-    s->x_work = s->qd;
-    for (int j = 0; j < n; ++j) {
-      s->x_work[j] = s->qd[j] + eps;
-      rnea(m, s->fd, s->q, s->x_work, s->qdd);
-      s->tau_plus = s->fd.tau;
-      s->x_work[j] = s->qd[j] - eps;
-      rnea(m, s->fd, s->q, s->x_work, s->qdd);
-      s->fd_dv.col(j) = (s->tau_plus - s->fd.tau) * inv;
-      s->x_work[j] = s->qd[j];
-    }
+    centralColumns(s->x_work, s->q, eps, s->tau_plus, s->fd.tau, s->fd_dq, [&](const Eigen::VectorXd& x) {
+      rnea(m, s->fd, x, s->qd, s->qdd);
+    });
+    centralColumns(s->x_work, s->qd, eps, s->tau_plus, s->fd.tau, s->fd_dv, [&](const Eigen::VectorXd& x) {
+      rnea(m, s->fd, s->q, x, s->qdd);
+    });
     benchmark::DoNotOptimize(s->fd_dq.data());
     benchmark::DoNotOptimize(s->fd_dv.data());
     benchmark::ClobberMemory();
@@ -277,18 +272,11 @@ void RneaDerivativesFiniteDifference(benchmark::State& state, Scene* s) {
 // NeResidualWithJacobian replaces inside the Newton loop).
 void NeResidualJacobianFiniteDifference(benchmark::State& state, Scene* s) {
   const Model& m = s->model;
-  const int n = m.nq;
-  const double eps = 1e-6, inv = 1.0 / (2 * eps);
+  const double eps = 1e-6;
   for (auto _ : state) {
-    s->x_work = s->theta;
-    for (int j = 0; j < n; ++j) {
-      s->x_work[j] = s->theta[j] + eps;
-      neInertialResidual(m, s->fd, s->x_work, s->q_n, s->qd_n, s->h, s->tau_plus, nullptr);
-      s->x_work[j] = s->theta[j] - eps;
-      neInertialResidual(m, s->fd, s->x_work, s->q_n, s->qd_n, s->h, s->G, nullptr);
-      s->dG.col(j) = (s->tau_plus - s->G) * inv;
-      s->x_work[j] = s->theta[j];
-    }
+    centralColumns(s->x_work, s->theta, eps, s->tau_plus, s->G, s->dG, [&](const Eigen::VectorXd& x) {
+      neInertialResidual(m, s->fd, x, s->q_n, s->qd_n, s->h, s->G, nullptr);
+    });
     benchmark::DoNotOptimize(s->dG.data());
     benchmark::ClobberMemory();
   }

@@ -165,10 +165,7 @@ int runFit(const Args& args) {
   bool quiet = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto next = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw InputError(a + " needs a value (see nmdp fit --help)");
-      return args[++i];
-    };
+    auto next = [&]() -> const std::string& { return optionValue(args, i, "fit"); };
     if (a == "--data")
       data = next();
     else if (a == "--model")

@@ -43,10 +43,7 @@ int runGenRft(const Args& args) {
   std::string where = "defaults", out;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto next = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw InputError(a + " needs a value (see nmdp gen-rft --help)");
-      return args[++i];
-    };
+    auto next = [&]() -> const std::string& { return optionValue(args, i, "gen-rft"); };
     if (a == "--config") {
       ConfigContext ctx;
       config = readJsonArgument("--config", next(), ctx);

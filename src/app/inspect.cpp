@@ -78,10 +78,7 @@ int runInspect(const Args& args) {
   UrdfOptions options;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto next = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw InputError(a + " needs a value (see nmdp inspect --help)");
-      return args[++i];
-    };
+    auto next = [&]() -> const std::string& { return optionValue(args, i, "inspect"); };
     if (a == "--base") {
       const std::string& value = next();
       try {

@@ -67,10 +67,7 @@ int runWrench(const Args& args) {
   double depth = -0.02, angle = 0.0, radius = 0.02, x = 0.0, y = 0.0;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
-    auto next = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw InputError(a + " needs a value (see nmdp wrench --help)");
-      return args[++i];
-    };
+    auto next = [&]() -> const std::string& { return optionValue(args, i, "wrench"); };
     if (a == "--model") {
       model_json = readModelArgument(a, next(), model_ctx);
       have_model = true;

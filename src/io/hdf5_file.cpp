@@ -183,25 +183,24 @@ void File::createGroup(const std::string& group) {
 void File::writeMatrix(const std::string& dataset, const Eigen::MatrixXd& m) {
   const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> rm = m;
   const hsize_t dims[2] = {static_cast<hsize_t>(m.rows()), static_cast<hsize_t>(m.cols())};
-  Handle space{H5Screate_simple(2, dims, nullptr), H5Sclose};
-  Handle d{H5Dcreate2(id_, dataset.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
-  if (d.id < 0 || H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, rm.data()) < 0)
-    fail(path_, "cannot write dataset '" + dataset + "'");
+  writeArray(dataset, 2, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, rm.data(), true);
 }
 
 void File::writeVector(const std::string& dataset, const Eigen::VectorXd& v) {
   const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
-  Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
-  Handle d{H5Dcreate2(id_, dataset.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
-  if (d.id < 0 || H5Dwrite(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0)
-    fail(path_, "cannot write dataset '" + dataset + "'");
+  writeArray(dataset, 1, dims, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), true);
 }
 
 void File::writeIntegerVector(const std::string& dataset, const Eigen::VectorXi& v) {
   const hsize_t dims[1] = {static_cast<hsize_t>(v.size())};
-  Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
-  Handle d{H5Dcreate2(id_, dataset.c_str(), H5T_STD_I64LE, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
-  if (d.id < 0 || (v.size() > 0 && H5Dwrite(d.id, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data()) < 0))
+  writeArray(dataset, 1, dims, H5T_STD_I64LE, H5T_NATIVE_INT, v.data(), v.size() > 0);
+}
+
+void File::writeArray(const std::string& dataset, int rank, const unsigned long long* dims, long long file_type,
+                      long long memory_type, const void* data, bool write_data) {
+  Handle space{H5Screate_simple(rank, dims, nullptr), H5Sclose};
+  Handle d{H5Dcreate2(id_, dataset.c_str(), file_type, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+  if (d.id < 0 || (write_data && H5Dwrite(d.id, memory_type, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) < 0))
     fail(path_, "cannot write dataset '" + dataset + "'");
 }
 

@@ -47,6 +47,10 @@ class File {
   void commit();  // close and move into place (atomic files only)
 
  private:
+  // One dataset of `rank` dimensions (hsize_t dims; hid_t types, kept out of this header); the data
+  // is written only when write_data (HDF5 refuses a write of zero elements from a null buffer).
+  void writeArray(const std::string& dataset, int rank, const unsigned long long* dims, long long file_type,
+                  long long memory_type, const void* data, bool write_data);
   File(long long id, std::string path, std::string final_path);
   long long id_ = -1;  // hid_t
   std::string path_;        // the file being accessed

@@ -104,14 +104,18 @@ bool isNmdpOutputFile(const std::string& path) {
   return hasAttribute("config") && H5Lexists(file.id, "/status", H5P_DEFAULT) > 0;  // a trajectory
 }
 
+namespace {
+// Refuses `path`, which does not exist yet, when the folder it would be created in does not exist.
+void requireParentFolder(const std::string& path, const std::string& option) {
+  struct stat parent;
+  if (::stat(folderOf(path).c_str(), &parent) != 0 || !S_ISDIR(parent.st_mode))
+    refuse(path, option, "its folder " + displayPath(folderOf(path)) + " does not exist");
+}
+}  // namespace
+
 void checkOutputFile(const std::string& output, const std::vector<RunInput>& inputs, const std::string& option) {
   struct stat info;
-  if (!statOutput(output, option, info)) {
-    struct stat folder;
-    if (::stat(folderOf(output).c_str(), &folder) != 0 || !S_ISDIR(folder.st_mode))
-      refuse(output, option, "its folder " + displayPath(folderOf(output)) + " does not exist");
-    return;
-  }
+  if (!statOutput(output, option, info)) return requireParentFolder(output, option);
   if (const RunInput* input = inputThatIs(info, inputs))
     refuse(output, option, "it is " + input->role + " of this run (" + displayPath(input->path) + ")");
   if (S_ISDIR(info.st_mode)) refuse(output, option, "it is a folder");
@@ -124,12 +128,7 @@ void checkOutputFile(const std::string& output, const std::vector<RunInput>& inp
 void checkOutputFolder(const std::string& folder, const std::vector<std::string>& names,
                        const std::vector<RunInput>& inputs, const std::string& option) {
   struct stat info;
-  if (!statOutput(folder, option, info)) {
-    struct stat parent;
-    if (::stat(folderOf(folder).c_str(), &parent) != 0 || !S_ISDIR(parent.st_mode))
-      refuse(folder, option, "its folder " + displayPath(folderOf(folder)) + " does not exist");
-    return;
-  }
+  if (!statOutput(folder, option, info)) return requireParentFolder(folder, option);
   if (!S_ISDIR(info.st_mode)) refuse(folder, option, "it exists and is not a folder");
   for (const std::string& name : names) {
     struct stat file;

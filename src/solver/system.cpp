@@ -1,10 +1,23 @@
 #include "solver/system.hpp"
 
+#include "multibody/feet.hpp"
+
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace nmdp {
+
+System systemOnFeet(const Model& model, const ContactModel& contact_model, const Terrain& terrain, PdGains gains) {
+  System system;
+  system.model = &model;
+  system.contacts = footContactPoints(model);
+  system.contact_model = &contact_model;
+  system.terrain = &terrain;
+  system.gains = std::move(gains);
+  return system;
+}
 
 void validateSystem(const System& system, const IntegratorOptions& options) {
   if (!system.model) throw std::invalid_argument("integrator: no robot model");

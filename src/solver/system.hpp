@@ -33,6 +33,10 @@ struct System {
   Eigen::VectorXd external_force;
 };
 
+// A robot on `terrain` touching it through `contact_model` at its detected feet (footContactPoints),
+// driven by `gains`: the system most tests and benchmarks step.
+System systemOnFeet(const Model& model, const ContactModel& contact_model, const Terrain& terrain, PdGains gains);
+
 // Throws std::invalid_argument naming the problem: sizes, missing contact model or terrain, or a
 // first-order method with a contact model that has no derivative (suggesting the zeroth-order twin).
 void validateSystem(const System& system, const IntegratorOptions& options);

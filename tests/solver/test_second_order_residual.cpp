@@ -41,11 +41,7 @@ struct Scene {
     o.default_armature = 0.02;
     return o;
   }())) {
-    system.model = &model;
-    system.contacts = footContactPoints(model);
-    system.contact_model = &contact_model;
-    system.terrain = &terrain;
-    system.gains = massScaledPdGains(model);
+    system = systemOnFeet(model, contact_model, terrain, massScaledPdGains(model));
   }
   double deepest(const Vec& q) const {
     Data data(model);

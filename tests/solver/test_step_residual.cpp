@@ -75,11 +75,7 @@ struct Scene {
         terrain(Vec3(std::sin(tilt_), 0.0, std::cos(tilt_)), -0.05),
         normal(std::sin(tilt_), 0.0, std::cos(tilt_)),
         tilt(tilt_) {
-    system.model = &model;
-    system.contacts = footContactPoints(model);
-    system.contact_model = &contact_model;
-    system.terrain = &terrain;
-    system.gains = massScaledPdGains(model);
+    system = systemOnFeet(model, contact_model, terrain, massScaledPdGains(model));
   }
 
   // Signed foot clearance φ(c) − r (negative: penetration depth) of every contact at q.

@@ -105,11 +105,7 @@ struct QuadrupedOnPlane {
           o.base = base;
           return o;
         }())) {
-    system.model = &model;
-    system.contacts = footContactPoints(model);
-    system.contact_model = model_override ? model_override : &contact_model;
-    system.terrain = &terrain;
-    system.gains = massScaledPdGains(model);
+    system = systemOnFeet(model, model_override ? *model_override : contact_model, terrain, massScaledPdGains(model));
   }
   // Foot clearances φ(c) − r at q (negative: penetration).
   Eigen::VectorXd clearances(const Eigen::VectorXd& q) const {
