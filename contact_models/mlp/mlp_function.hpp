@@ -71,7 +71,7 @@
 //     duplicated and no AD bookkeeping runs, the fastest scheme. derivative() then says
 //     Analytic. The tests check it against both autograd schemes and central differences.
 //   Reverse mode with one-hot output seeds would need the batch stacked 3K times, so it is not
-//   offered. (Timings of the schemes: docs/notes/2026-11-26-core-measurements.md.)
+//   offered. (bench/bench_contact_models times each scheme.)
 // Asking for one derivative computes both and drops the other (both directions are always stacked),
 // so dW/dφ alone is bit for bit dW/dφ of the pair: a smaller batch would let the BLAS pick another
 // kernel (it picks by shape and CPU) and round differently. The schemes and the value-only pass are

@@ -34,8 +34,8 @@ const char* zerothOrderJacobianName(ZerothOrderJacobian z);  // "finite-differen
 std::optional<ZerothOrderJacobian> parseZerothOrderJacobian(const std::string& name);
 
 // The options of a time step. Each is declared once, with its range and one line of documentation,
-// in integratorFields() (`nmdp simulate --schema` prints them); the reasons for the defaults are in
-// docs/notes/2026-11-26-integrator-option-choices.md.
+// in integratorFields() (`nmdp simulate --schema` prints them); docs/INTEGRATOR.md says why the
+// defaults are what they are.
 struct IntegratorOptions {
   Method method = Method::NePgm;
   int order = 1;

@@ -58,7 +58,7 @@ StepAttempt StepSolver::pgm(const System& system, const IntegratorOptions& optio
   }
   loop.K = residual_.K;
   // ε on K is relative to the energy gravity gives the robot in one step, ½ m (‖g‖ h)², so that it
-  // means the same for a quadruped and a 1 kg box (notes: 2026-11-26-core-measurements.md).
+  // means the same for a quadruped and a 1 kg box.
   const double gravity_h = std::max(system.model->gravity.norm(), 1.0) * h;
   loop.energy_tolerance = options.epsilon * 0.5 * mass_scale_ * gravity_h * gravity_h;
   // A step predicted to lower K by less than ε would end the iteration once taken, so it is not

@@ -272,7 +272,7 @@ TEST_P(QuadrupedTest, TrotStartRampBlendsInFromTheStandingPose) {
       worst = std::max(worst, (d[id] - r * designed).norm());
     }
   }
-  // Measured 2026-11-23: at most 0.33 % of the leg length (1.1-1.5 mm) on all four robots.
+  // Nominally at most 0.33 % of the leg length (1.1-1.5 mm) on all four robots.
   EXPECT_LT(worst, 0.01 * pose.leg_length) << worst / pose.leg_length;
   gait.trot.start_ramp = -0.1;
   EXPECT_THROW(makeGaitTarget(model, gait), std::invalid_argument);
