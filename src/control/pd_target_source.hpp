@@ -25,4 +25,20 @@ class ConstantPdTarget final : public PdTargetSource {
   Eigen::VectorXd position_;
 };
 
+// A target position and velocity held until replaced: what a policy sets at every control step
+// (Simulation::setTargets from Python's set_targets). The velocity is the target's rate in the PD
+// law, not the derivative of the held position.
+class HeldPdTarget final : public PdTargetSource {
+ public:
+  HeldPdTarget(Eigen::VectorXd position, Eigen::VectorXd velocity)
+      : position_(std::move(position)), velocity_(std::move(velocity)) {}
+  void evaluate(double, PdTarget& out) const override {
+    out.position = position_;
+    out.velocity = velocity_;
+  }
+
+ private:
+  Eigen::VectorXd position_, velocity_;
+};
+
 }  // namespace nmdp

@@ -63,6 +63,10 @@ class Simulation {
 
   const PdTargetSource& targets() const;
   void setTargets(std::unique_ptr<PdTargetSource> targets);  // from the next step on; not null
+  // The feed-forward torque τ_ff (nq, N·m or N) of the PD law from the next step on, in place of the
+  // scene's controller.tau_ff. std::invalid_argument naming the entry if its size is not nq, an entry
+  // is not finite, or a base coordinate's entry is not 0 (the base is unactuated).
+  void setFeedforward(const Eigen::Ref<const Eigen::VectorXd>& tau);
 
   const SceneConfig& scene() const;
   // The scene with every default filled in, the robot's included, and the contact model's own

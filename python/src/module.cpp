@@ -1,0 +1,7 @@
+// nmdp._core: the compiled part of the Python package nmdp (python/nmdp/__init__.py re-exports it).
+#include "bindings.hpp"
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "nmdp: legged robots on rigid and granular ground with learned contact models";
+  nmdp::python::bindErrors(m);
+}
