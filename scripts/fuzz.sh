@@ -16,7 +16,7 @@ build=${NMDP_BUILD_DIR:-build-fuzz}
 if [ ! -f "$build/CMakeCache.txt" ]; then
   cmake -S . -B "$build" -DCMAKE_C_COMPILER=clang-14 -DCMAKE_CXX_COMPILER=clang++-14 -DCMAKE_BUILD_TYPE=Release \
     -DCMAKE_C_FLAGS=-g1 -DCMAKE_CXX_FLAGS=-g1 -DNMDP_SANITIZE=address,undefined -DNMDP_BUILD_FUZZERS=ON \
-    -DNMDP_BUILD_BENCH=OFF >/dev/null
+    -DNMDP_BUILD_BENCH=OFF -DNMDP_BUILD_PYTHON=OFF >/dev/null
 fi
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
