@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -164,7 +165,7 @@ py::dict wrenchSpace(ContactModelHandle& h, double depth, double angle, const st
   }
   const std::vector<int> corners = convexHull(points);
   py::array_t<double> hull({static_cast<py::ssize_t>(corners.size()), py::ssize_t{2}});
-  py::array_t<long> indices(static_cast<py::ssize_t>(corners.size()));
+  py::array_t<std::int64_t> indices(static_cast<py::ssize_t>(corners.size()));
   for (size_t i = 0; i < corners.size(); ++i) {
     hull.mutable_at(i, 0) = points[corners[i]].x();
     hull.mutable_at(i, 1) = points[corners[i]].y();

@@ -7,6 +7,8 @@
 #include <pybind11/stl.h>
 
 #include <cmath>
+#include <algorithm>
+#include <cstdint>
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -85,11 +87,13 @@ std::vector<std::string> defaultNames(py::ssize_t columns, bool features, bool u
 // A force dataset from a dict of arrays; shapes are checked here (naming the key), values by
 // validateForceDataset (naming the dataset '/features', '/vertex' or '/wrench' of "data").
 ForceDataset datasetFromDict(const py::dict& data) {
-  for (const auto& item : data)
-    if (std::find(kDatasetKeys.begin(), kDatasetKeys.end(), py::str(item.first).cast<std::string>()) == kDatasetKeys.end())
+  for (const auto& item : data) {
+    const std::string key = py::str(item.first).cast<std::string>();
+    if (std::find(kDatasetKeys.begin(), kDatasetKeys.end(), key) == kDatasetKeys.end())
       throw InputError("data: unknown key " + py::repr(item.first).cast<std::string>().substr(0, 40) +
                        "; expected features, vertex, wrench and optionally feature_names, feature_units, "
                        "wrench_names, wrench_units, source, torque_centre");
+  }
   const Doubles features = requireArray(data, "features", 2, "N x F: phi, beta per sample");
   const Doubles vertex = requireArray(data, "vertex", 1, "N vertex indices");
   const Doubles wrench = requireArray(data, "wrench", 2, "N x 3: F_x, F_z, tau_y per sample");
@@ -139,12 +143,13 @@ py::dict commonReport(const std::string& model, const Record& r, const PlanarGeo
   d["settings"] = pythonFromJson(nlohmann::json::parse(r.settings.dump()));
   d["from_data"] = py::cast(r.from_data);
   py::list warnings;
-  for (const FitWarning& w : r.warnings) warnings.append(py::dict(py::arg("what") = w.what, py::arg("suggestion") = w.suggestion));
+  for (const FitWarning& w : r.warnings)
+    warnings.append(py::dict(py::arg("what") = w.what, py::arg("suggestion") = w.suggestion));
   d["warnings"] = warnings;
   d["seconds"] = r.seconds;
   d["points"] = arrayOf(r.points.features);
-  py::array_t<long> origin(r.points.pointCount());
-  for (int i = 0; i < r.points.pointCount(); ++i) origin.mutable_at(i) = static_cast<long>(r.points.origin[i]);
+  py::array_t<std::int64_t> origin(r.points.pointCount());
+  for (int i = 0; i < r.points.pointCount(); ++i) origin.mutable_at(i) = static_cast<std::int64_t>(r.points.origin[i]);
   d["origin"] = origin;
   d["values"] = arrayOf(r.points.values);
   d["above_surface_share"] = r.above_surface.share();
