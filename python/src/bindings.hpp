@@ -6,5 +6,7 @@
 namespace nmdp::python {
 
 void bindErrors(pybind11::module_& m);  // InputError and std::invalid_argument → ValueError
+void bindContactModel(pybind11::module_& m);  // nmdp.ContactModel
+void bindFit(pybind11::module_& m);  // nmdp.fit
 
 }  // namespace nmdp::python

@@ -4,4 +4,6 @@
 PYBIND11_MODULE(_core, m) {
   m.doc() = "nmdp: legged robots on rigid and granular ground with learned contact models";
   nmdp::python::bindErrors(m);
+  nmdp::python::bindContactModel(m);
+  nmdp::python::bindFit(m);
 }

@@ -1,10 +1,6 @@
 #include <algorithm>
-#include <cctype>
 #include <cmath>
-#include <cstdint>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <iostream>
 #include <nlohmann/json.hpp>
 
@@ -16,8 +12,9 @@
 #include "config/json_params.hpp"
 #include "io/output_path.hpp"
 #include "training/fit_config.hpp"
+#include "training/fit_data.hpp"
 #include "training/force_dataset.hpp"
-#include "training/mlp/mlp_fit.hpp"
+#include "training/mlp/contact_model_fit.hpp"
 
 namespace nmdp::app {
 
@@ -101,62 +98,6 @@ class TrainingLine {
   MlpEpochStatus last_;
 };
 
-const char* const kAcceptedData =
-    "expected a force dataset (HDF5, as nmdp fit --import-csv writes), a folder in the CSV layout of "
-    "granular/sand_samples (features.csv, wrench_samples.csv, scalars.txt) or a .csv file in such a folder";
-
-// Whether the file starts with the HDF5 signature, at byte 0 or at a user block of 512, 1024, ... bytes
-// (where the HDF5 library looks for it).
-bool hasHdf5Signature(const std::string& path, std::uintmax_t size) {
-  static const char kSignature[8] = {'\x89', 'H', 'D', 'F', '\r', '\n', '\x1a', '\n'};
-  std::ifstream in(path, std::ios::binary);
-  for (std::uintmax_t offset = 0; in && offset + 8 <= size; offset = offset ? 2 * offset : 512) {
-    char head[8];
-    in.seekg(static_cast<std::streamoff>(offset));
-    if (!in.read(head, 8)) return false;
-    if (std::equal(head, head + 8, kSignature)) return true;
-  }
-  return false;
-}
-
-bool isSandSamplesFolder(const std::filesystem::path& folder) {
-  std::error_code ec;
-  for (const char* name : {"features.csv", "wrench_samples.csv", "scalars.txt"})
-    if (!std::filesystem::is_regular_file(folder / name, ec)) return false;
-  return true;
-}
-
-// --data: a dataset file, a sand_samples-layout folder or a .csv file of one (the folder is imported
-// on the fly); anything else is one message naming the path and what is accepted.
-ForceDataset loadData(const std::string& path) {
-  namespace fs = std::filesystem;
-  const std::string shown = "--data " + displayPath(path);
-  if (!pathExists(path)) throw InputError(shown + ": no such file or folder; " + kAcceptedData);
-  std::error_code ec;
-  if (fs::is_directory(path, ec)) {
-    if (!isSandSamplesFolder(path))
-      throw InputError(shown + ": a folder without features.csv, wrench_samples.csv and scalars.txt; " +
-                       kAcceptedData);
-    return importSandSamplesCsv(path);
-  }
-  std::string extension = fs::path(path).extension().string();
-  std::transform(extension.begin(), extension.end(), extension.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  if (extension == ".csv") {
-    const fs::path parent = fs::path(path).parent_path();
-    const fs::path folder = parent.empty() ? fs::path(".") : parent;
-    if (!isSandSamplesFolder(folder))
-      throw InputError(shown + ": a .csv file whose folder lacks features.csv, wrench_samples.csv or scalars.txt; " +
-                       kAcceptedData);
-    return importSandSamplesCsv(folder.string());
-  }
-  if (!fs::is_regular_file(path, ec))
-    throw InputError(shown + ": neither a regular file nor a folder; " + kAcceptedData);
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (ec || !hasHdf5Signature(path, size))
-    throw InputError(shown + ": neither an HDF5 file nor a .csv file; " + kAcceptedData);
-  return readForceDataset(path);
-}
 }  // namespace
 
 int runFit(const Args& args) {
@@ -202,7 +143,7 @@ int runFit(const Args& args) {
 
   if (data.empty()) throw InputError("--data is required (see nmdp fit --help)");
   if (model.empty()) throw InputError("--model is required: rbf or mlp (see nmdp fit --help)");
-  if (model != "rbf" && model != "mlp") throw InputError("--model: expected rbf or mlp, got '" + model + "'");
+  requireFitModelName(model);
 
   FitConfig fit_config;
   if (!config.empty()) {
@@ -210,20 +151,13 @@ int runFit(const Args& args) {
     const nlohmann::json json = readJsonArgument("--config", config, ctx);
     fit_config = parseFitConfig(json, ctx);
   }
-  const ForceDataset dataset = loadData(data);
-  if (model == "mlp") {
-    TrainingLine line(stderr, ProgressBar::shouldShow(stderr, quiet));
-    const MlpFitOutcome fit =
-        fitMlpToDataset(dataset, fit_config, data, [&](const MlpEpochStatus& st) { line.update(st); });
-    line.finish();
-    saveMlpFit(out, fit.record, fit.geometry);
-    if (!quiet) std::cout << formatMlpFitReport(fit.record);
-    std::cout << "wrote " << out << "\n";
-    return 0;
-  }
-  const RbfFitOutcome fit = fitRbfToDataset(dataset, fit_config, data);
-  saveRbfFit(out, fit.record, fit.geometry);
-  if (!quiet) std::cout << formatRbfFitReport(fit.record);
+  const ForceDataset dataset = loadFitData(data);
+  TrainingLine line(stderr, model == "mlp" && ProgressBar::shouldShow(stderr, quiet));
+  const ContactModelFit fit =
+      fitContactModel(dataset, model, fit_config, data, [&](const MlpEpochStatus& st) { line.update(st); });
+  line.finish();
+  saveContactModelFit(out, fit);
+  if (!quiet) std::cout << formatContactModelFitReport(fit);
   std::cout << "wrote " << out << "\n";
   return 0;
 }

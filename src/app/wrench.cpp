@@ -6,6 +6,7 @@
 
 #include "app/commands.hpp"
 #include "app/json_argument.hpp"
+#include "contact_models/foot_frame.hpp"
 #include "contact_models/registry.hpp"
 #include "common/input_error.hpp"
 #include "terrain/terrain_factory.hpp"
@@ -101,17 +102,7 @@ int runWrench(const Args& args) {
     throw InputError("--derivatives: this " + model->describe() + " model has no derivative (zeroth-order methods only)");
 
   // Place the sphere so that its lowest point is `depth` from the terrain below (x, y).
-  TerrainQuery q;
-  terrain->query(Vec3(x, y, 0.0), q, false);
-  ContactFrame frame;
-  frame.radius = radius;
-  frame.position = Vec3(x, y, 0.0) + (radius + depth - q.distance) * Vec3::UnitZ();
-  terrain->query(frame.position, q, false);
-  frame.position += (radius + depth - q.distance) * q.normal;  // exact on planes, close elsewhere
-  const Vec3 lateral = Vec3::UnitY();
-  const Vec3 forward = lateral.cross(q.normal).normalized();
-  frame.leg_axis = std::cos(angle) * q.normal + std::sin(angle) * forward;
-  frame.lateral = lateral;
+  const ContactFrame frame = footFrameAt(*terrain, x, y, depth, angle, radius);
 
   std::vector<ContactFrame> frames{frame};
   std::vector<ContactWrenches> out(1);

@@ -1,0 +1,16 @@
+// The contact frame of one foot placed for probing a contact model (nmdp wrench, the Python
+// ContactModel.vertices): the sphere's lowest point `depth` from the terrain below (x, y), the leg in
+// the terrain's sagittal plane through the world y axis, tilted by `angle` from the normal.
+// On a plane these are exactly the planar models' features (planar_wrench_model.hpp): φ = depth and
+// β = angle for |angle| < π; the Coulomb cone's penetration is max(0, −depth).
+#pragma once
+#include "contact_models/contact_model.hpp"
+
+namespace nmdp {
+
+// `depth`: m, signed distance of the foot's lowest point to the terrain (negative below);
+// `angle`: rad, leg axis = cos(angle) n + sin(angle) x_s, x_s = y × n (forward); `radius`: m ≥ 0.
+// Exact on planes; on curved terrain the sphere is placed along the normal once (close, not exact).
+ContactFrame footFrameAt(const Terrain& terrain, double x, double y, double depth, double angle, double radius);
+
+}  // namespace nmdp
