@@ -161,9 +161,11 @@ struct Recursion {
 
   void accept(double h) {
     const StepSolver& solver = ws.solver;
-    state.q_prev.swap(state.q);
+    // Copies, not swaps: each of the state's vectors keeps its buffer for the whole run (the Python
+    // bindings' numpy arrays view state().q and state().qd).
+    state.q_prev = state.q;
     state.q = solver.theta();
-    state.qd_prev.swap(state.qd);
+    state.qd_prev = state.qd;
     state.qd = solver.velocity();
     state.h_prev = h;
     state.time += h;

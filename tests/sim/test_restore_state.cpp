@@ -1,6 +1,7 @@
 // A run restored from its state (Simulation::setState, sim/simulation.hpp) repeats the run that was
 // never interrupted bit for bit: everything a step carries to the next is in SimulationState (the
-// weight QP's warm active set included), in the same simulation and in a fresh one.
+// weight QP's warm active set included), in the same simulation and in a fresh one; and the
+// state's vectors keep their buffers over steps and setState (the Python bindings view them).
 #include <gtest/gtest.h>
 
 #include "scene_simulation.hpp"
@@ -91,6 +92,28 @@ TEST(RestoreState, TheStateCarriesTheQpWarmStart) {
   SimulationState wrong = sim.state();
   wrong.qp_warm.cap.pop_back();
   EXPECT_THROW(sim.setState(wrong), std::invalid_argument);
+}
+
+// A numpy array made from state().q keeps looking at q: the step copies into the state's vectors
+// rather than swapping them with q_prev, and setState copies into them.
+TEST(RestoreState, TheStateVectorsKeepTheirBuffers) {
+  Simulation sim = repositorySimulation("quadruped_trot_sand.json");
+  const double* q = sim.state().q.data();
+  const double* qd = sim.state().qd.data();
+  run(sim, 3);
+  const SimulationState saved = sim.state();
+  for (int i = 0; i < 3; ++i) {
+    ASSERT_TRUE(sim.step().converged);
+    EXPECT_EQ(sim.state().q.data(), q) << "step " << i;
+    EXPECT_EQ(sim.state().qd.data(), qd) << "step " << i;
+  }
+  sim.setState(saved);
+  EXPECT_EQ(sim.state().q.data(), q);
+  EXPECT_EQ(sim.state().qd.data(), qd);
+  EXPECT_EQ(sim.state().q, saved.q);
+  ASSERT_TRUE(sim.step().converged);
+  EXPECT_EQ(sim.state().q.data(), q);
+  EXPECT_EQ(sim.state().qd.data(), qd);
 }
 
 // A floating base re-centres its chart when the pitch nears gimbal lock (solver/integrator.cpp):
