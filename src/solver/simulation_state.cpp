@@ -11,7 +11,7 @@ SimulationState initialState(const System& system, const IntegratorOptions& opti
   s.qd_prev = qd;
   s.h_prev = h;
   s.contact_active.assign(system.contacts.size(), 0);
-  s.substeps_since_touchdown = 2;
+  s.substeps_since_touchdown = kTouchdownRestartSubsteps;
   s.beta = s.beta_start = options.beta_initial;
   const int K = (system.contacts.empty() || !system.contact_model) ? 0 : system.contact_model->vertexCount();
   s.w.setZero(static_cast<Eigen::Index>(system.contacts.size()) * K);

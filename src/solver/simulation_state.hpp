@@ -10,6 +10,9 @@
 
 namespace nmdp {
 
+// The sub-steps after a touchdown that are taken at first order (see contact_active below).
+constexpr int kTouchdownRestartSubsteps = 2;
+
 // What carries over from one step to the next.
 struct SimulationState {
   double time = 0.0;
@@ -29,7 +32,7 @@ struct SimulationState {
   // so are the two after it (a compliant contact's impact at a coarse step ends within the next),
   // as multistep methods restart at a discontinuity.
   std::vector<std::uint8_t> contact_active;
-  int substeps_since_touchdown = 2;  // accepted sub-steps since the last touchdown (saturates at 2)
+  int substeps_since_touchdown = kTouchdownRestartSubsteps;  // accepted sub-steps since the last touchdown (saturates)
   Mat3 base_chart = Mat3::Identity();  // floating base reference orientation (Data::base_chart)
   double beta = 1e-4;      // trust-region penalty carried over between steps (DESIGN.md 3)
   double beta_start = 1e-4;  // the least β the next step starts from (IntegratorOptions::adapt_start_penalty)
