@@ -131,6 +131,23 @@ void Simulation::setTargets(std::unique_ptr<PdTargetSource> targets) {
   parts_->targets = std::move(targets);
 }
 
+void Simulation::setFeedforward(const Eigen::Ref<const Eigen::VectorXd>& tau) {
+  Parts& p = *parts_;
+  const Eigen::Index n = p.model.nq;
+  if (tau.size() != n)
+    throw std::invalid_argument("Simulation::setFeedforward: tau has " + std::to_string(tau.size()) +
+                                " entries, expected nq = " + std::to_string(n));
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Body& body = p.model.bodies[static_cast<size_t>(j)];
+    const bool finite = std::isfinite(tau[j]);
+    if (finite && !(body.is_base && tau[j] != 0.0)) continue;  // no message built: called at every control step
+    throw std::invalid_argument("Simulation::setFeedforward: tau[" + std::to_string(j) + "] (" + body.joint_name + ") " +
+                                (finite ? "is nonzero on an unactuated base coordinate" : "is not finite"));
+  }
+  // The integrator reads the gains from the system at every evaluation (residual, energy check).
+  p.system.gains.tau_ff = tau;
+}
+
 const SceneConfig& Simulation::scene() const { return parts_->scene; }
 const nlohmann::json& Simulation::resolvedScene() const { return parts_->resolved; }
 const Model& Simulation::model() const { return parts_->model; }
