@@ -5,6 +5,9 @@
 
 namespace nmdp::python {
 
-void bindErrors(pybind11::module_& m);  // InputError and std::invalid_argument → ValueError
+void bindErrors(pybind11::module_& m);      // InputError and std::invalid_argument → ValueError
+void bindStepStats(pybind11::module_& m);   // nmdp.StepStats (stats_bindings.cpp)
+void bindScene(pybind11::module_& m);       // nmdp.Scene (scene_bindings.cpp)
+void bindSimulation(pybind11::module_& m);  // nmdp.Simulation (simulation_bindings.cpp, simulation_*.cpp)
 
 }  // namespace nmdp::python

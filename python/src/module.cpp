@@ -4,4 +4,7 @@
 PYBIND11_MODULE(_core, m) {
   m.doc() = "nmdp: legged robots on rigid and granular ground with learned contact models";
   nmdp::python::bindErrors(m);
+  nmdp::python::bindStepStats(m);
+  nmdp::python::bindScene(m);
+  nmdp::python::bindSimulation(m);
 }
