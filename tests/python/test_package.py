@@ -1,5 +1,5 @@
 """The package as docs/PYTHON.md says: a folder that works wherever it is copied (no pip), and
-sim.step() releases the GIL so that other Python threads run while it steps."""
+sim.step() releases the GIL so that other Python threads run while it steps (but do not step it)."""
 import os
 import shutil
 import subprocess
@@ -27,39 +27,18 @@ def test_the_package_folder_works_when_copied_elsewhere(tmp_path):
     assert where.startswith(str(site)) and float(t) == pytest.approx(0.1)
 
 
-def test_step_lets_other_python_threads_run():
-    sim = nmdp.Simulation(nmdp.Scene.load(scene_path("quadruped_trot_flat.json")))
-    count, stop = [0], threading.Event()
-
-    def count_while_stepping():
-        while not stop.is_set():
-            count[0] += 1
-
-    sim.step()  # warmed up
-    counter = threading.Thread(target=count_while_stepping)
-    counter.start()
-    try:
-        time.sleep(0.01)
-        before = count[0]
-        start = time.perf_counter()
-        sim.step(100)
-        stepped = time.perf_counter() - start
-        during = count[0] - before
-    finally:
-        stop.set()
-        counter.join()
-    # Holding the GIL, the step would leave the counter no turn at all; released, it counts all along.
-    assert stepped > 0.02 and during > 1000, (stepped, during)
-
-
-def test_a_second_thread_cannot_step_the_same_simulation_meanwhile():
+def test_step_releases_the_gil_but_one_thread_at_a_time_steps():
     sim = nmdp.Simulation(nmdp.Scene.load(scene_path("quadruped_trot_flat.json"), {"duration": 100}))
     stepping = threading.Thread(target=sim.step, args=(400,))
     stepping.start()
     try:
-        while sim.time == 0.0 and stepping.is_alive():
+        # This thread runs Python while the other steps: it sees the time move during step(400).
+        # (Holding the GIL, step would let it read only the final time.)
+        seen = set()
+        while len(seen) < 3 and stepping.is_alive():
+            seen.add(sim.time)
             time.sleep(0.001)
-        assert stepping.is_alive(), "the first thread finished too soon to test anything"
+        assert stepping.is_alive() and len(seen) == 3, "the time did not move while the other thread stepped"
         with pytest.raises(RuntimeError, match="being stepped by another thread"):
             sim.step()
         with pytest.raises(RuntimeError, match="being stepped by another thread"):
