@@ -46,3 +46,21 @@ def test_step_releases_the_gil_but_one_thread_at_a_time_steps():
     finally:
         stepping.join()
     assert sim.step().converged  # free again
+
+
+def test_ctrl_c_interrupts_a_long_step_call_between_steps(tmp_path):
+    program = f"""
+import os, signal, threading, nmdp
+sim = nmdp.Simulation(nmdp.Scene.load({scene_path('quadruped_foot_drop_sand.json')!r}, {{"duration": 1e6}}))
+threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT)).start()
+try:
+    sim.step(10**9)
+    print("not interrupted")
+except KeyboardInterrupt:
+    steps = sim.time / sim.dt
+    print("interrupted", steps, abs(steps - round(steps)) < 1e-6, sim.step().converged)
+"""
+    done = subprocess.run([sys.executable, "-c", program], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 0, done.stderr
+    word, steps, whole, stepped_on = done.stdout.split()
+    assert word == "interrupted" and float(steps) > 100 and whole == "True" and stepped_on == "True", done.stdout
