@@ -97,17 +97,22 @@ long Simulation::scheduledSteps() const { return std::max(1L, std::lround(parts_
 const SimulationState& Simulation::state() const { return parts_->state; }
 
 void Simulation::setState(const SimulationState& state) {
-  const Parts& p = *parts_;
+  Parts& p = *parts_;
   const Eigen::Index n = p.model.nq;
   const size_t contacts = p.system.contacts.size();
+  const size_t weights = static_cast<size_t>(p.state.w.size());
   if (state.q.size() != n || state.qd.size() != n || state.q_prev.size() != n || state.qd_prev.size() != n ||
-      state.contact_active.size() != contacts || state.w.size() != p.state.w.size())
+      state.contact_active.size() != contacts || static_cast<size_t>(state.w.size()) != weights ||
+      state.qp_warm.at_bound.size() != weights || state.qp_warm.cap.size() != contacts)
     throw std::invalid_argument("Simulation::setState: expected q, q̇, q_prev and q̇_prev of size " + std::to_string(n) +
-                                ", contact_active of size " + std::to_string(contacts) + " and w of size " +
-                                std::to_string(p.state.w.size()));
-  parts_->state = state;
-  // Warm starts carried over from the previous step belong to another state: start them afresh.
-  parts_->workspace = std::make_unique<StepWorkspace>(p.system, p.scene.integrator);
+                                ", contact_active and qp_warm.cap of size " + std::to_string(contacts) +
+                                ", w and qp_warm.at_bound of size " + std::to_string(weights));
+  p.state = state;  // same sizes: every vector keeps its buffer
+  // The workspace carries nothing into the next step (the QP's warm start is in the state, the
+  // energy check's cache is keyed by q, q̇ and the chart); only the last step's outputs are reset.
+  for (Vec6& wrench : p.workspace->contact_wrench) wrench.setZero();
+  p.workspace->substep_sizes.clear();
+  p.workspace->substep_in_contact.clear();
 }
 
 void Simulation::basePose(Vec3& position, Vec3& rpy) const {
@@ -124,6 +129,23 @@ const PdTargetSource& Simulation::targets() const { return *parts_->targets; }
 void Simulation::setTargets(std::unique_ptr<PdTargetSource> targets) {
   if (!targets) throw std::invalid_argument("Simulation::setTargets: no target source");
   parts_->targets = std::move(targets);
+}
+
+void Simulation::setFeedforward(const Eigen::Ref<const Eigen::VectorXd>& tau) {
+  Parts& p = *parts_;
+  const Eigen::Index n = p.model.nq;
+  if (tau.size() != n)
+    throw std::invalid_argument("Simulation::setFeedforward: tau has " + std::to_string(tau.size()) +
+                                " entries, expected nq = " + std::to_string(n));
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const Body& body = p.model.bodies[static_cast<size_t>(j)];
+    const bool finite = std::isfinite(tau[j]);
+    if (finite && !(body.is_base && tau[j] != 0.0)) continue;  // no message built: called at every control step
+    throw std::invalid_argument("Simulation::setFeedforward: tau[" + std::to_string(j) + "] (" + body.joint_name + ") " +
+                                (finite ? "is nonzero on an unactuated base coordinate" : "is not finite"));
+  }
+  // The integrator reads the gains from the system at every evaluation (residual, energy check).
+  p.system.gains.tau_ff = tau;
 }
 
 const SceneConfig& Simulation::scene() const { return parts_->scene; }

@@ -49,10 +49,14 @@ class Simulation {
   double dt() const;                     // integrator.dt, s
   long scheduledSteps() const;           // steps of dt the scene's duration takes (at least 1)
   const SimulationState& state() const;  // q, q̇ (nq, in the chart state().base_chart), time, ...
-  // Replaces the state (e.g. one kept from state() earlier); std::invalid_argument if its sizes do
-  // not match the robot and its contacts. The step workspace starts afresh (its warm starts were
-  // the old state's), so the steps that follow depend on `state` alone: they repeat bit for bit
-  // after every setState(state), and follow an uninterrupted run to within the solver's tolerances.
+  // Replaces the state (e.g. one kept from state() earlier, or one unflattened from
+  // sim/state_vector.hpp); std::invalid_argument if its sizes do not match the robot and its
+  // contacts. Everything a step carries to the next is in the state (the QP's warm start included),
+  // so the steps that follow depend on `state` alone: setState(state()) changes nothing, and a run
+  // restored from a state kept at step k repeats the uninterrupted run from step k bit for bit, in
+  // this simulation or another built from the same scene. The state's vectors keep their buffers
+  // (they are copied into, here and by every step): a pointer to state().q stays valid for the
+  // Simulation's life. contactWrenches() reads zero until the next step.
   void setState(const SimulationState& state);
   // The world pose of the trunk at the current state: position (m) and ZYX roll-pitch-yaw (rad), as
   // /base/position and /base/rpy of the output.

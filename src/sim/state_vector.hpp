@@ -6,7 +6,7 @@
 //   time | q (n) | q̇ (n) | q_prev (n) | q̇_prev (n) | h_prev | second_order_history |
 //   contact_active (C) | substeps_since_touchdown | base_chart (9, column-major) | beta | beta_start |
 //   w (m) | h_next | qp_warm_valid | qp_warm_at_bound (m) | qp_warm_cap (C)
-// so time, q and q̇ come first: x[0], x[1 : 1+n], x[1+n : 1+2n].
+// 4n + 2m + 2C + 17 entries, so that time, q and q̇ come first: x[0], x[1 : 1+n], x[1+n : 1+2n].
 #pragma once
 #include <Eigen/Core>
 #include <string>
@@ -34,11 +34,14 @@ struct StateLayout {
 StateLayout stateLayout(const System& system);
 
 // Writes `state` into out (resized to layout.size() if its size differs; no allocation otherwise).
+// std::invalid_argument if the state's sizes are not the layout's.
 void flattenState(const StateLayout& layout, const SimulationState& state, Eigen::VectorXd& out);
-// Reads a flat state into `state` (its vectors resized to the layout). std::invalid_argument naming
-// the part and the entry if x has the wrong size, a non-finite entry where a number is needed
-// (time, q, q̇, ...), a flag that is not 0 or 1, a count out of range, or a base chart that is not a
-// rotation (to 1e-9).
+// Reads a flat state into `state` (its vectors resized to the layout; a vector of the right size
+// keeps its buffer). std::invalid_argument naming the entry and its part ("flat state entry 3
+// (q[2]) is nan: expected a finite number") if x has the wrong size, an entry is not finite, h_prev,
+// beta or beta_start is not positive, h_next is negative, a flag is not 0 or 1,
+// substeps_since_touchdown is not an integer from 0 to 2, or the base chart is not a rotation (to
+// 1e-9); then `state` is left as it was.
 void unflattenState(const StateLayout& layout, const Eigen::Ref<const Eigen::VectorXd>& x, SimulationState& state);
 
 }  // namespace nmdp

@@ -161,9 +161,11 @@ struct Recursion {
 
   void accept(double h) {
     const StepSolver& solver = ws.solver;
-    state.q_prev.swap(state.q);
+    // Copies, not swaps: each of the state's vectors keeps its buffer for the whole run (the Python
+    // bindings' numpy arrays view state().q and state().qd).
+    state.q_prev = state.q;
     state.q = solver.theta();
-    state.qd_prev.swap(state.qd);
+    state.qd_prev = state.qd;
     state.qd = solver.velocity();
     state.h_prev = h;
     state.time += h;
@@ -180,9 +182,9 @@ struct Recursion {
     // The impact of a compliant contact at a coarse step ends within the sub-step after the
     // touchdown: the two sub-steps after it are first order, so that BDF2 restarts from velocities
     // on the far side of the jump.
-    constexpr int kRestartSubsteps = 2;
-    state.substeps_since_touchdown = touchdown ? 0 : std::min(state.substeps_since_touchdown + 1, kRestartSubsteps);
-    state.second_order_history = state.substeps_since_touchdown >= kRestartSubsteps;
+    state.substeps_since_touchdown =
+        touchdown ? 0 : std::min(state.substeps_since_touchdown + 1, kTouchdownRestartSubsteps);
+    state.second_order_history = state.substeps_since_touchdown >= kTouchdownRestartSubsteps;
     ws.substep_sizes.push_back(h);
     ws.substep_in_contact.push_back(in_contact ? 1 : 0);
     ++stats.substeps;

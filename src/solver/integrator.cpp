@@ -38,7 +38,9 @@ StepStats advance(const System& system, const IntegratorOptions& options, const 
   rebaseIfNeeded(*system.model, workspace.solver.residual().data, state);
   if (state.contact_active.size() != system.contacts.size()) state.contact_active.assign(system.contacts.size(), 0);
   const double t0 = state.time;
+  workspace.solver.takeWarmStart(state.qp_warm, state.qp_warm_valid);
   const bool ok = stepAdaptively(system, options, targets, state, dt, workspace, stats, cancel);
+  workspace.solver.returnWarmStart(state.qp_warm, state.qp_warm_valid);
   stats.converged = ok;
   if (ok) stats.status = StepStatus::Converged;
   const double elapsed = state.time - t0;

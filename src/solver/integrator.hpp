@@ -13,7 +13,10 @@
 namespace nmdp {
 
 // Advances `state` by dt (or as far as it got, on failure). Returns the status and statistics.
-// `cancel` (may be null) is polled during the step.
+// `cancel` (may be null) is polled during the step. The step depends on `state` alone, not on what
+// the workspace computed before: the weight QP's warm start travels in the state (taken by the
+// solver here, handed back at the end) and the energy check's cached energy is recomputed, to the
+// same bits, for a state it has not seen. So one workspace may step many states (a rollout).
 StepStats advance(const System& system, const IntegratorOptions& options, const PdTargetSource& targets,
                   SimulationState& state, double dt, StepWorkspace& workspace, CancelFlag cancel = nullptr);
 

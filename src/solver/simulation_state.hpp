@@ -5,9 +5,13 @@
 #include <vector>
 
 #include "multibody/spatial.hpp"
+#include "solver/capped_simplex_qp.hpp"
 #include "solver/system.hpp"
 
 namespace nmdp {
+
+// The sub-steps after a touchdown that are taken at first order (see contact_active below).
+constexpr int kTouchdownRestartSubsteps = 2;
 
 // What carries over from one step to the next.
 struct SimulationState {
@@ -28,16 +32,22 @@ struct SimulationState {
   // so are the two after it (a compliant contact's impact at a coarse step ends within the next),
   // as multistep methods restart at a discontinuity.
   std::vector<std::uint8_t> contact_active;
-  int substeps_since_touchdown = 2;  // accepted sub-steps since the last touchdown (saturates at 2)
+  int substeps_since_touchdown = kTouchdownRestartSubsteps;  // accepted sub-steps since the last touchdown (saturates)
   Mat3 base_chart = Mat3::Identity();  // floating base reference orientation (Data::base_chart)
   double beta = 1e-4;      // trust-region penalty carried over between steps (DESIGN.md 3)
   double beta_start = 1e-4;  // the least β the next step starts from (IntegratorOptions::adapt_start_penalty)
   Eigen::VectorXd w;       // contact weights of the last sub-step (Σ K_c), the warm start
   double h_next = 0.0;     // error control: the next sub-step's size (0: none chosen yet)
+  // The weight QP's active set at its last solve, where the next solve starts (the QP's warm start,
+  // solver/capped_simplex_qp.hpp): at_bound sized Σ K_c, cap sized C; not valid: a cold start. The
+  // integrator hands it to the solver at the start of a step and takes it back at the end, so that
+  // a run restored from its state repeats bit for bit.
+  QpActiveSet qp_warm;
+  bool qp_warm_valid = false;
 };
 
 // Starts at (q, q̇) at time 0; q_prev = q − h q̇ so that PBD starts with the same velocity;
-// qd_prev = q̇ and no second-order history (the first step is backward Euler).
+// qd_prev = q̇ and no second-order history (the first step is backward Euler); the QP starts cold.
 SimulationState initialState(const System& system, const IntegratorOptions& options, const Eigen::VectorXd& q,
                              const Eigen::VectorXd& qd, double h);
 

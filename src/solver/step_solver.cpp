@@ -39,6 +39,19 @@ bool StepSolver::solveQp(double beta) {
   return true;
 }
 
+void StepSolver::takeWarmStart(const QpActiveSet& set, bool valid) {
+  warm_valid_ = valid && set.at_bound.size() == warm_.at_bound.size() && set.cap.size() == warm_.cap.size();
+  if (!warm_valid_) return;
+  warm_.at_bound = set.at_bound;
+  warm_.cap = set.cap;
+}
+
+void StepSolver::returnWarmStart(QpActiveSet& set, bool& valid) const {
+  set.at_bound = warm_.at_bound;
+  set.cap = warm_.cap;
+  valid = warm_valid_;
+}
+
 StepSolver::StepSolver(const System& system)
     : residual_(system), llt_(system.model->nq) {
   const Model& model = *system.model;

@@ -55,6 +55,12 @@ class StepSolver {
   Vec6 contactWrench(int c) const;  // V_c(θ) w_c, [torque about the sphere centre; force], world
   StepResidual& residual() { return residual_; }
 
+  // The weight QP's warm start (its last active set), carried from step to step in the state
+  // (SimulationState::qp_warm): taken at the start of a step, handed back at its end. A set whose
+  // sizes do not match this system's is a cold start. Neither allocates once `set` is sized.
+  void takeWarmStart(const QpActiveSet& set, bool valid);
+  void returnWarmStart(QpActiveSet& set, bool& valid) const;
+
  private:
   // What the PGM loop does next: iterate again, stop converged, or stop failed (status set).
   enum class PgmNext { Iterate, Converged, Fail };

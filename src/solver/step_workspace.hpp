@@ -1,5 +1,6 @@
 // Every buffer a time step needs, sized once for a system and method: the solver, the energy
-// check's and error control's workspaces, and the per-step outputs.
+// check's and error control's workspaces, and the per-step outputs. What one step hands to the next
+// is in SimulationState, not here (solver/integrator.hpp).
 #pragma once
 #include <cstdint>
 #include <vector>
