@@ -9,5 +9,6 @@ void bindErrors(pybind11::module_& m);      // InputError and std::invalid_argum
 void bindStepStats(pybind11::module_& m);   // nmdp.StepStats (stats_bindings.cpp)
 void bindScene(pybind11::module_& m);       // nmdp.Scene (scene_bindings.cpp)
 void bindSimulation(pybind11::module_& m);  // nmdp.Simulation (simulation_bindings.cpp, simulation_*.cpp)
+void bindRollout(pybind11::module_& m);     // nmdp.rollout (rollout_bindings.cpp)
 
 }  // namespace nmdp::python

@@ -10,6 +10,7 @@
 #include "multibody/data.hpp"
 #include "py_scene.hpp"
 #include "sim/simulation.hpp"
+#include "sim/state_vector.hpp"
 
 namespace nmdp::python {
 
@@ -19,6 +20,8 @@ struct PySimulation {
   PyScene scene;
   Simulation sim;
   Data kinematics;                 // the contacts' forward kinematics, apart from the integrator's
+  StateLayout layout;              // of get_state() / set_state()
+  Eigen::VectorXd flat;            // get_state()'s buffer
   std::optional<StepStats> last;   // of the last step; none before the first
   std::atomic<bool> busy{false};   // step() runs without the GIL: a second thread must not enter
 };
@@ -43,6 +46,7 @@ class ExclusiveUse {
 pybind11::array readOnlyView(const double* data, pybind11::ssize_t size, pybind11::handle owner);
 
 // The methods of nmdp.Simulation kept in files of their own.
-void bindContacts(pybind11::class_<PySimulation>& c);  // sim.contacts
+void bindContacts(pybind11::class_<PySimulation>& c);  // sim.contacts (simulation_contacts.cpp)
+void bindState(pybind11::class_<PySimulation>& c);     // get_state, set_state, set_feedforward (simulation_state.cpp)
 
 }  // namespace nmdp::python

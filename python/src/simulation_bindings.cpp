@@ -19,7 +19,9 @@ using namespace pybind11::literals;
 namespace nmdp::python {
 
 PySimulation::PySimulation(const PyScene& scene_)
-    : scene(scene_), sim(buildSimulation(*scene_.config, ContactModelRegistry::withBuiltins())), kinematics(sim.model()) {}
+    : scene(scene_), sim(buildSimulation(*scene_.config, ContactModelRegistry::withBuiltins())),
+      kinematics(sim.model()),
+      layout(stateLayout(sim.system())) {}
 
 py::array readOnlyView(const double* data, py::ssize_t size, py::handle owner) {
   py::array view(py::dtype::of<double>(), {size}, {static_cast<py::ssize_t>(sizeof(double))}, data, owner);
@@ -136,6 +138,7 @@ void bindSimulation(py::module_& m) {
       .def("set_targets", &setTargets, py::arg("q_target"), py::arg("qdot_target") = py::none(), kTargetsDoc);
   bindStateViews(c);
   bindContacts(c);
+  bindState(c);
 }
 
 }  // namespace nmdp::python
