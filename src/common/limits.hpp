@@ -54,4 +54,10 @@ constexpr std::int64_t kMaxForceSamples = std::int64_t{10} << 20;
 // long before (each row holds at least 100 bytes).
 constexpr double kMaxSteps = 1e15;
 
+// A rollout (sim/rollout.hpp): its threads (one simulation each; a machine has tens of cores) and
+// the doubles of its result, B · (steps + 1) · (flat state size): 2^30 is 8 GiB (a batch of 1024
+// runs of 1000 steps of a quadruped is 10^8); a larger one is split by the caller.
+constexpr int kMaxRolloutThreads = 256;
+constexpr std::int64_t kMaxRolloutStateEntries = std::int64_t{1} << 30;
+
 }  // namespace nmdp::limits

@@ -2,9 +2,16 @@
 // simulation behind nmdp.rollout in Python (reinforcement learning, system identification,
 // sampling-based control).
 //
-// Each thread owns one Simulation built from the scene; every batch entry starts from its state
-// with setState (fresh workspace, the warm starts the state carries), so an entry's result does not
-// depend on which thread ran it or what it ran before: 1 thread and k threads give the same bits.
+// Each thread owns one Simulation built from the scene (before the threads start: building reads
+// files) and takes entries from a shared counter; every entry starts from its state with setState,
+// and a step depends on the state alone (sim/simulation.hpp), so an entry's result does not depend
+// on which thread ran it or what it ran before: 1 thread and k threads give the same bits, and an
+// entry gives the bits of a loop of Simulation::step from the same state (with setTargets(
+// HeldPdTarget(...)) and setFeedforward before each step, for controls).
+//
+// libtorch (the MLP contact model) runs its operations on the calling thread: MlpFunction sets its
+// intra-op threads to 1 (process-wide), so k rollout threads use k cores and each thread evaluates
+// its own simulation's model.
 #pragma once
 #include <Eigen/Core>
 #include <vector>
@@ -29,10 +36,10 @@ struct RolloutRequest {
 
 struct RolloutResult {
   // [B, (steps + 1) · layout.size()] row-major: the flat state after every step, the start first.
-  // After a step that does not converge, that entry's later states are NaN.
+  // From a step that does not converge on, that entry's states are NaN (its row included).
   std::vector<double> states;
   std::vector<StepStatus> status;  // per entry: Converged, or the status of the step that failed
-  std::vector<int> steps_done;     // per entry
+  std::vector<int> steps_done;     // per entry: the steps that converged
 };
 
 // Builds one simulation per thread from `scene` and runs every entry. std::invalid_argument naming
