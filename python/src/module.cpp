@@ -7,4 +7,5 @@ PYBIND11_MODULE(_core, m) {
   nmdp::python::bindStepStats(m);
   nmdp::python::bindScene(m);
   nmdp::python::bindSimulation(m);
+  nmdp::python::bindRollout(m);
 }

@@ -21,7 +21,9 @@ namespace nmdp::python {
 PySimulation::PySimulation(const PyScene& scene_)
     : scene(scene_), sim(buildSimulation(*scene_.config, ContactModelRegistry::withBuiltins())),
       kinematics(sim.model()),
-      layout(stateLayout(sim.system())) {}
+      layout(stateLayout(sim.system())) {
+  *scene.known_nq = sim.model().nq;
+}
 
 py::array readOnlyView(const double* data, py::ssize_t size, py::handle owner) {
   py::array view(py::dtype::of<double>(), {size}, {static_cast<py::ssize_t>(sizeof(double))}, data, owner);
