@@ -117,3 +117,22 @@ def test_bad_input_names_the_argument(scene):
         nmdp.rollout(scene, x[None, :], 0)
     with pytest.raises(ValueError, match="threads"):
         nmdp.rollout(scene, x[None, :], 3, threads=0)
+
+
+def test_rollout_lets_other_python_threads_run(scene):
+    import threading
+    import time
+    x0 = starts(nmdp.Simulation(scene), 1).repeat(40, axis=0)
+    result = {}
+    worker = threading.Thread(target=lambda: result.setdefault("states", nmdp.rollout(scene, x0, 20)))
+    start = time.perf_counter()
+    worker.start()
+    ticks = [start]
+    while worker.is_alive():
+        time.sleep(0.001)
+        ticks.append(time.perf_counter())
+    worker.join()
+    took = ticks[-1] - start
+    # Holding the GIL, the rollout would stop this loop for its whole length; released, it ticks on.
+    assert took > 0.2 and max(np.diff(ticks)) < took / 3, (took, max(np.diff(ticks)))
+    assert result["states"].shape == (40, 21, x0.shape[1])
