@@ -17,7 +17,7 @@
 #include "contact_model_handle.hpp"
 #include "contact_models/foot_frame.hpp"
 #include "contact_models/registry.hpp"
-#include "python_json.hpp"
+#include "py_json.hpp"
 #include "terrain/plane.hpp"
 
 namespace nmdp::python {
@@ -37,7 +37,7 @@ std::shared_ptr<ContactModelHandle> fromConfig(const py::handle& config, const p
     throw InputError("--model: expected a dict such as {\"type\": \"coulomb\", \"mu\": 0.7}");
   ConfigContext ctx{"--model", py::str(py::module_::import("os").attr("fspath")(base_dir)).cast<std::string>()};
   if (ctx.base_dir == ".") ctx.base_dir = "";  // relative paths stay as given
-  const nlohmann::json json = jsonFromPython(config, "--model");
+  const nlohmann::json json = toJson(config, "--model");
   const ContactModelRegistry registry = ContactModelRegistry::withBuiltins();
   return std::make_shared<ContactModelHandle>(registry.build(json, ctx));
 }
@@ -203,7 +203,7 @@ base_dir. ValueError with the registry's message (as nmdp wrench --model) on a b
   c.def_property_readonly("derivative",
                           [](const ContactModelHandle& h) { return derivativeSupportName(h.model->derivative()); },
                           "\"analytic\", \"autograd\" or \"none\": how dV/dxi is computed.");
-  c.def("configuration", [](const ContactModelHandle& h) { return pythonFromJson(h.model->configuration()); },
+  c.def("configuration", [](const ContactModelHandle& h) { return toPython(h.model->configuration()); },
         "The complete configuration (every key with the value in use) from_config rebuilds the model from; "
         "None for a model fitted without out=.");
   c.def("vertices", &vertices, py::arg("depth"), py::arg("angle"), py::arg("radius") = kDefaultRadius,

@@ -21,7 +21,7 @@
 #include "contact_model_handle.hpp"
 #include "contact_models/registry.hpp"
 #include "io/output_path.hpp"
-#include "python_json.hpp"
+#include "py_json.hpp"
 #include "training/fit_data.hpp"
 #include "training/fit_warnings.hpp"
 #include "training/mlp/contact_model_fit.hpp"
@@ -140,7 +140,7 @@ py::dict commonReport(const std::string& model, const Record& r, const PlanarGeo
   d["model"] = model;
   d["data"] = r.data;
   d["text"] = text;
-  d["settings"] = pythonFromJson(nlohmann::json::parse(r.settings.dump()));
+  d["settings"] = toPython(nlohmann::json::parse(r.settings.dump()));
   d["from_data"] = py::cast(r.from_data);
   py::list warnings;
   for (const FitWarning& w : r.warnings)
@@ -198,7 +198,7 @@ std::string pathOf(const py::handle& p, const std::string& what) {
 // --config FILE: relative paths inside resolve against its folder).
 FitConfig fitConfigOf(const py::object& config) {
   if (config.is_none()) return FitConfig();
-  if (py::isinstance<py::dict>(config)) return parseFitConfig(jsonFromPython(config, "--config"), {"--config", ""});
+  if (py::isinstance<py::dict>(config)) return parseFitConfig(toJson(config, "--config"), {"--config", ""});
   const std::string path = pathOf(config, "config: expected a dict (FIT.json's object) or the path of a .json file;");
   const ConfigContext ctx{displayPath(path), std::filesystem::path(path).parent_path().string()};
   return parseFitConfig(loadJsonFile(path, "JSON file of --config"), ctx);

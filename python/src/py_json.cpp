@@ -36,7 +36,8 @@ nlohmann::json toJsonAt(py::handle value, const std::string& where, int depth) {
   }
   if (py::isinstance<py::list>(value) || py::isinstance<py::tuple>(value)) {
     nlohmann::json array = nlohmann::json::array();
-    for (py::handle item : value) array.push_back(toJsonAt(item, where, depth + 1));
+    size_t i = 0;
+    for (py::handle item : value) array.push_back(toJsonAt(item, where + "[" + std::to_string(i++) + "]", depth + 1));
     return array;
   }
   if (py::isinstance<py::dict>(value)) {
@@ -44,7 +45,8 @@ nlohmann::json toJsonAt(py::handle value, const std::string& where, int depth) {
     for (auto [key, item] : value.cast<py::dict>()) {
       if (!py::isinstance<py::str>(key))
         throw std::invalid_argument(where + ": a JSON object's keys are strings, got " + py::repr(key).cast<std::string>());
-      object[key.cast<std::string>()] = toJsonAt(item, where, depth + 1);
+      const std::string name = key.cast<std::string>();
+      object[name] = toJsonAt(item, where + "." + name, depth + 1);
     }
     return object;
   }
