@@ -4,7 +4,9 @@ existing cluster's scheduler (`dask-scheduler` and `dask-worker`, on any number 
 import contextlib
 import logging
 import os
+import signal
 import tempfile
+import threading
 
 
 class ClusterError(RuntimeError):
@@ -19,6 +21,21 @@ def import_distributed():
         raise ClusterError(f"the sweeps need Dask's distributed package for this Python ({e}); "
                            "Debian: apt install python3-distributed") from None
     return distributed
+
+
+@contextlib.contextmanager
+def _workers_ignore_ctrl_c():
+    """SIGINT ignored while the LocalCluster starts its worker processes, which inherit that: a Ctrl-C
+    then interrupts the sweep (which closes the cluster) and the runs (nmdp simulate handles its own
+    signals), not every worker with a traceback of its own."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
 
 
 @contextlib.contextmanager
@@ -40,8 +57,10 @@ def client(scheduler=None, workers=None, timeout=30):
     # The workers' scratch folders in the temporary directory, not the current one; no dashboard
     # (port 8787 may be taken, and nobody looks at it during a sweep); only warnings logged.
     with tempfile.TemporaryDirectory(prefix="nmdp-sweep-") as scratch:
-        cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True, dashboard_address=None,
-                                           local_directory=scratch, silence_logs=logging.ERROR)
+        with _workers_ignore_ctrl_c():
+            cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
+                                               dashboard_address=None, local_directory=scratch,
+                                               silence_logs=logging.ERROR)
         try:
             with distributed.Client(cluster) as c:
                 yield c
