@@ -68,7 +68,7 @@ def cluster(tmp_path):
     address_file = tmp_path / "scheduler.json"
     logs = open(tmp_path / "cluster.log", "w")
     procs = [subprocess.Popen([sys.executable, "-m", "distributed.cli.dask_scheduler", "--host", "127.0.0.1", "--port", "0",
-                               "--no-dashboard", "--scheduler-file", str(address_file)],
+                               "--dashboard-address", ":0", "--scheduler-file", str(address_file)],
                               env=env, stdout=logs, stderr=subprocess.STDOUT, cwd=tmp_path)]
     try:
         wait_for(address_file.exists, 30, "the scheduler")

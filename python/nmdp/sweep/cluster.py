@@ -54,12 +54,13 @@ def client(scheduler=None, workers=None, timeout=30):
             c.close()
         return
     n = workers or os.cpu_count() or 1
-    # The workers' scratch folders in the temporary directory, not the current one; no dashboard
-    # (port 8787 may be taken, and nobody looks at it during a sweep); only warnings logged.
+    # The workers' scratch folders in the temporary directory, not the current one; the scheduler's
+    # HTTP server (it starts even without a dashboard) on a free port, not 8787, which another
+    # cluster on this machine may hold (a warning on stderr); only errors logged.
     with tempfile.TemporaryDirectory(prefix="nmdp-sweep-") as scratch:
         with _workers_ignore_ctrl_c():
             cluster = distributed.LocalCluster(n_workers=n, threads_per_worker=1, processes=True,
-                                               dashboard_address=None, local_directory=scratch,
+                                               dashboard_address=":0", local_directory=scratch,
                                                silence_logs=logging.ERROR)
         try:
             with distributed.Client(cluster) as c:
