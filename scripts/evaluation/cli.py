@@ -19,10 +19,12 @@ swing profile and start ramp (A1: kd = 3): extra rows against their own 1 ms run
 verdict. Robots in ../shared are read in place, and a case whose files are absent is skipped with a
 message.
 
-The package: plan (cases, variants, runs and commands), run (a pool of processes, the manifest),
+The package: plan (cases, variants, runs and commands), run (the runs through nmdp's sweep library on
+a LocalCluster of --jobs workers or a Dask cluster's --scheduler, the manifest),
 metrics (what is measured of a run, the verdict), figures, report (the page).
 
-Needs Debian's python3 (h5py, numpy, matplotlib) and a built nmdp (default build/nmdp). Results go to
+Needs Debian's python3 (h5py, numpy, matplotlib, python3-distributed) and a built nmdp (default
+build/nmdp, with its Python package beside it in build/python). Results go to
 --out-dir (default build/evaluation, or build/evaluation-short below 10 s): the HDF5 runs,
 manifest.json and rows.json. Never commit them.
 """
@@ -50,7 +52,10 @@ def parse_args(argv):
     ap.add_argument("--methods", default=",".join(plan.METHODS), help="comma-separated methods (default ne-pgm,pbd-pgm)")
     ap.add_argument("--dts", default=",".join(f"{dt:g}" for dt in plan.DTS),
                     help="comma-separated dt in s; the smallest is the reference (default 0.001,0.005,0.01,0.02,0.05)")
-    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2, help="runs at a time (default: the number of cores)")
+    ap.add_argument("--jobs", type=int, default=os.cpu_count() or 2,
+                    help="runs at a time: the LocalCluster's worker processes (default: the number of cores)")
+    ap.add_argument("--scheduler", default=None, metavar="tcp://HOST:PORT",
+                    help="run on this Dask cluster instead (docs/SWEEPS.md); its workers see these paths")
     ap.add_argument("--out-dir", default=None, help="results folder (default build/evaluation, build/evaluation-short below 10 s)")
     ap.add_argument("--docs-dir", default=None, help="where RESULTS.md and figures/ go (default docs/; below 10 s the results folder)")
     ap.add_argument("--nmdp", default=os.path.join(plan.ROOT, "build", "nmdp"), help="the nmdp binary (default build/nmdp)")
@@ -119,8 +124,8 @@ def make_runs(a, cases, variants_of, info):
             continue
         jobs.append(dict(key=r["key"], cmd=cmd, out=r["out"], timeout=a.timeout))
     if jobs:
-        _log(f"{len(jobs)} runs, {a.jobs} at a time, into {a.out_dir}")
-        info["sweep_wall"] = run.execute(jobs, a.jobs, manifest, manifest_path, _log)
+        _log(f"{len(jobs)} runs, " + (f"on {a.scheduler}" if a.scheduler else f"{a.jobs} at a time") + f", into {a.out_dir}")
+        info["sweep_wall"] = run.execute(jobs, a.jobs, manifest, manifest_path, _log, a.scheduler)
         info["runs_made"] = len(jobs)
         info["summed"] = sum(manifest[j["key"]]["elapsed"] for j in jobs)
         _log(f"the runs took {info['sweep_wall'] / 60:.1f} min")

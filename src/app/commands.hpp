@@ -23,5 +23,7 @@ int runFit(const Args& args);
 extern const char* const kFitHelp;
 int runGenRft(const Args& args);
 extern const char* const kGenRftHelp;
+int runSweep(const Args& args);
+extern const char* const kSweepHelp;
 
 }  // namespace nmdp::app

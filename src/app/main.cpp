@@ -28,6 +28,8 @@ const Command kCommands[] = {
      &nmdp::app::kWrenchHelp},
     {"gen-rft", "wrench samples from resistive force theory over a foot shape, for nmdp fit", nmdp::app::runGenRft,
      &nmdp::app::kGenRftHelp},
+    {"sweep", "make many runs of a scene on a Dask cluster and index them (docs/SWEEPS.md)", nmdp::app::runSweep,
+     &nmdp::app::kSweepHelp},
 };
 
 // A message as one line of readable length: control characters (a newline in a JSON key, a byte of

@@ -1,7 +1,7 @@
 // scripts/evaluate.py, the step-size evaluation: its --help, the unit tests of its package
 // (scripts/evaluation/test_*.py), that every case's scene file runs, and a smoke run of 0.2 s on the
 // project's quadruped into a temporary folder. The Python parts are skipped without a python3 that
-// has h5py, numpy and matplotlib.
+// has h5py, numpy and matplotlib, and the smoke run without nmdp's sweep package and Dask's distributed.
 #include <gtest/gtest.h>
 
 #include <cstdlib>
@@ -75,6 +75,11 @@ TEST(EvaluationScript, EveryCaseSceneRuns) {
 TEST(EvaluationScript, SmokeRunWritesThePageWithTheSettingsPassedThrough) {
   const std::string py = python();
   if (py.empty()) GTEST_SKIP() << "no python3 with h5py, numpy and matplotlib";
+  // The runs go through nmdp's sweep library (build/python/nmdp/sweep) on Dask's distributed.
+  const std::filesystem::path sweep = std::filesystem::path(NMDP_BINARY).parent_path() / "python/nmdp/sweep";
+  if (!std::filesystem::is_directory(sweep)) GTEST_SKIP() << sweep << " is absent (NMDP_BUILD_PYTHON=OFF)";
+  if (std::system((py + " -c 'import distributed' >/dev/null 2>&1").c_str()) != 0)
+    GTEST_SKIP() << "no Dask distributed for " << py << " (Debian: python3-distributed)";
   TempDir dir;
   const std::string args = shellQuote(kScript) + " --duration 0.2 --cases quadruped_trot_flat --dts 0.01,0.05 --jobs 1" +
                            " --no-variants --set integrator.max_outer_iterations=77 --nmdp " + shellQuote(NMDP_BINARY) +
