@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdio>
 #include <exception>
 #include <limits>
 #include <stdexcept>
@@ -14,6 +15,13 @@
 namespace nmdp {
 
 namespace {
+
+// A count too large for an integer type, as a number a reader takes in ("1.45e+10").
+std::string countText(double count) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.3g", count);
+  return text;
+}
 
 // The PD target of a control row, read in place from the request (a pointer moved before every
 // step): the worker's simulation owns it, so no target source is allocated per step. Evaluates to
@@ -104,7 +112,7 @@ Shape checkRequest(const RolloutRequest& request, const Simulation& sim) {
   shape.flat_states = cols == nx;
   const double entries = static_cast<double>(shape.batch) * (request.steps + 1.0) * static_cast<double>(nx);
   if (entries > static_cast<double>(limits::kMaxRolloutStateEntries))
-    throw std::invalid_argument("rollout: the result would hold " + std::to_string(entries) + " doubles (batch " +
+    throw std::invalid_argument("rollout: the result would hold " + countText(entries) + " doubles (batch " +
                                 std::to_string(shape.batch) + " x " + std::to_string(request.steps + 1) + " states x " +
                                 std::to_string(nx) + "), more than " +
                                 std::to_string(limits::kMaxRolloutStateEntries) + ": split the batch");

@@ -2,6 +2,7 @@
 // bit for bit, with the scene's gait and with controls (the setTargets / setFeedforward loop a
 // policy would write); 1, 2 and 3 threads give the same bits; (q, q̇) rows start as the scene's own
 // start state; a failed step leaves NaN; bad arguments are refused before anything runs.
+#include <cstdio>
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -238,6 +239,9 @@ TEST(Rollout, BadArgumentsAreRefusedByName) {
   r = good;
   r.steps = 1 << 30;
   expectMessage(r, "split the batch");
+  char held[32];  // the count reads as a number, not as "...000.000000"
+  std::snprintf(held, sizeof held, "%.3g", 2.0 * ((1 << 30) + 1.0) * static_cast<double>(nx));
+  expectMessage(r, std::string("rollout: the result would hold ") + held + " doubles (batch 2 x ");
   EXPECT_EQ(message(good), "accepted");
 }
 
