@@ -1,0 +1,85 @@
+// Contact models fitted to 3-D force data (the 3-D RBF and MLP granular models): a feature function
+// maps f = (φ, β, γ) to K six-dimensional wrenches, and this class places them in the world.
+//
+// Geometry, for a contact sphere of centre c and radius r on terrain with normal n (the planar
+// models' conventions, planar_wrench_model.hpp, extended across the sagittal plane):
+//  * foot point    P = c − r n, depth feature φ = φ_terrain(c) − r (negative below the surface);
+//  * terrain frame y_s = the contact's lateral axis projected onto the tangent plane, normalized;
+//                  x_s = y_s × n (the heading, forward); R = [x_s y_s n]. The frame turns with the
+//                  foot about the normal, so a model is invariant to heading by construction;
+//  * tilt features with the leg axis a (unit, from the foot up the leg) in the frame,
+//                  (a_x, a_y, a_z) = Rᵀ a:  β = atan2(a_x, a_z) the sagittal lean (the planar
+//                  models' β), γ = asin(a_y) the lateral lean (positive toward y_s), so
+//                  a = R (cos γ sin β, sin γ, cos γ cos β);
+//  * wrench        vertex j of the feature function is (τ, F) = (τ_x, τ_y, τ_z, F_x, F_y, F_z) in the
+//                  frame R, the torque about the foot point P; in the world, about the sphere centre:
+//                  V_j = [R τ + (P − c) × R F; R F];
+//  * cut-off       the wrenches are scaled by the planar models' C² step σ(φ) (cutoffStep), zero at
+//                  and above `cutoff`, so the model is exactly zero in the air.
+// The derivative dV/dξ is analytic in the geometry and uses the feature function's dW/df.
+#pragma once
+#include <array>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "contact_models/contact_model.hpp"
+#include "contact_models/planar_wrench_model.hpp"
+
+namespace nmdp {
+
+// Entries per vertex in a spatial feature function's output row: (τ_x, τ_y, τ_z, F_x, F_y, F_z).
+constexpr int kSpatialWrenchWidth = 6;
+// Features of a spatial model: (φ, β, γ).
+constexpr int kSpatialFeatureCount = 3;
+
+// Six-dimensional wrenches of K vertices for a batch of B feature points. Row b of W holds vertex
+// j's (τ_x, τ_y, τ_z, F_x, F_y, F_z) in columns 6j .. 6j + 5 (frame R, torque about the foot point).
+class SpatialFeatureFunction {
+ public:
+  virtual ~SpatialFeatureFunction() = default;
+  virtual int vertexCount() const = 0;
+  virtual DerivativeSupport derivative() const = 0;
+  virtual std::string describe() const = 0;
+  // features: B×3 rows (φ, β, γ) in (m, rad, rad). W: B×6K. dW, when non-null: ∂W/∂φ, ∂W/∂β, ∂W/∂γ,
+  // each B×6K. Resizes its outputs; allocates nothing once they have the size of a previous call.
+  virtual void evaluate(const Eigen::MatrixX3d& features, Eigen::MatrixXd& W,
+                        std::array<Eigen::MatrixXd, 3>* dW) const = 0;
+};
+
+// The spatial models' cut-off: the planar models' PlanarGeometry with torque_centre unused (the
+// torque is about the foot point).
+struct SpatialGeometry {
+  double cutoff = 0.0;          // m: zero wrench when φ ≥ cutoff
+  double cutoff_width = 0.005;  // m: blending band below the cut-off
+};
+
+class SpatialWrenchModel : public ContactModel {
+ public:
+  // `source`: the configuration keys that identify the feature function ("file", ...), as the
+  // factory resolved them; null for a function built in code.
+  SpatialWrenchModel(std::shared_ptr<const SpatialFeatureFunction> function, SpatialGeometry geometry,
+                     std::string type, nlohmann::json source = nullptr);
+
+  int vertexCount() const override { return function_->vertexCount(); }
+  DerivativeSupport derivative() const override { return function_->derivative(); }
+  std::string describe() const override;
+  // `source` with "type", "cutoff" and "cutoff_width"; null without a source.
+  nlohmann::json configuration() const override;
+  void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
+                bool with_derivatives) const override;
+
+  const SpatialFeatureFunction& function() const { return *function_; }
+  const SpatialGeometry& geometry() const { return geometry_; }
+
+ private:
+  std::shared_ptr<const SpatialFeatureFunction> function_;
+  SpatialGeometry geometry_;
+  std::string type_;
+  nlohmann::json source_;
+  // Scratch for one evaluation (a model instance serves one simulation at a time), sized by the
+  // number of contacts only. The implementation may add members here.
+};
+
+}  // namespace nmdp
