@@ -48,7 +48,9 @@ bool endsWith(const std::string& s, const std::string& tail) {
 int runGenRft(const Args& args) {
   if (args.size() == 1 && args[0] == "--schema") {
     nlohmann::ordered_json both = rftConfigSchema();
-    for (const auto& [section, rows] : rft3dConfigSchema().items()) both["3d: " + section] = rows;
+    const nlohmann::ordered_json spatial = rft3dConfigSchema();
+    for (auto it = spatial.begin(); it != spatial.end(); ++it)
+      both[it.key().empty() ? std::string("3d (\"dimension\": 3)") : "3d " + it.key()] = it.value();
     return std::cout << schemaText(both), 0;
   }
   nlohmann::json config = nlohmann::json::object();

@@ -81,6 +81,21 @@ TEST(Rft3dLaw, IsInvariantToTheSideOfAThinElementAndZeroWithoutMotion) {
   EXPECT_NEAR(a.dot(Vector3d::UnitZ().cross(v).normalized()), 0.0, 1e-9 * a.norm());
 }
 
+TEST(Rft3dLaw, AnElementTurnedOutOfThePlaneOfMotionLoadsByItsProjectedArea) {
+  // A vertical element turned by φ about the vertical, dragged along +x: its normal's part in the
+  // x–z plane is cos φ x̂, so it carries |cos φ| times the stress of the element facing the drag,
+  // along −x only (nothing across the plane of motion), down to zero when edge-on (φ = π/2).
+  const RftMedium m = sand();
+  const Vector3d facing = rft3dStressPerDepth(m, Vector3d::UnitX(), Vector3d::UnitX());
+  ASSERT_LT(facing.x(), -1e5);
+  for (double phi : {0.3, 0.9, 1.4, kPi / 2, 2.2}) {
+    const Vector3d s = rft3dStressPerDepth(m, Vector3d(std::cos(phi), std::sin(phi), 0), Vector3d::UnitX());
+    EXPECT_NEAR(s.x(), std::abs(std::cos(phi)) * facing.x(), 1e-9 * std::abs(facing.x())) << phi;
+    EXPECT_NEAR(s.z(), std::abs(std::cos(phi)) * facing.z(), 1e-9 * std::abs(facing.x())) << phi;
+    EXPECT_EQ(s.y(), 0.0) << phi;
+  }
+}
+
 TEST(Rft3d, HorizontalPlatePushedDownMatchesPlanarRftClosedForm) {
   // F_z = ζ α_z(0, π/2) A d, with α_z(0, π/2) = 1 for the generic coefficients.
   const RftMedium m = sand();

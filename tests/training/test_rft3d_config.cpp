@@ -230,5 +230,15 @@ TEST(GenRftCli, WritesSpatialAndPlanarDatasetsFromA3dConfiguration) {
   EXPECT_FALSE(std::filesystem::exists(dir.file("t.h5")));
 }
 
+TEST(GenRftCli, SchemaListsThePlanarAndThe3dKeys) {
+  const TempDir dir;
+  const CliResult r = runNmdp({"gen-rft", "--schema"}, dir);
+  ASSERT_TRUE(r.exited);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  for (const char* s : {"grid.directions:circle", "3d (\"dimension\": 3)", "3d foot", "3d grid.directions:fibonacci",
+                        "gammas", "output: string = \"spatial\""})
+    EXPECT_NE(r.out.find(s), std::string::npos) << "missing '" << s << "' in:\n" << r.out;
+}
+
 }  // namespace
 }  // namespace nmdp::test
