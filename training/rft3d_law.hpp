@@ -1,16 +1,16 @@
 // The resistive stress on one surface element in three dimensions: the law behind rft3dWrench
 // (training/rft3d_foot.hpp). One function, so the law can be swapped without touching the feet.
 //
-// Which law. The brief asked for the three-dimensional RFT of Agarwal, Goldman and Kamrin (PNAS 120,
-// e2214017120, 2023; arXiv 2205.14920). Its formulation could not be recovered from the stored text
-// of the paper (only the abstract was readable), and its reduced-order functions were found only in
-// an unverified third-party implementation whose values do not reduce to the planar generic form of
-// training/rft.hpp (a horizontal plate pushed down gets 0.875 instead of 1.0). This file therefore
-// implements a PROJECTION law in the spirit of Treers, Cao and Stuart (IEEE RA-L 6, 2021, "Granular
-// resistive force theory implementation for three-dimensional trajectories"): the planar law of Li,
-// Zhang and Goldman (Science 2013; training/rft.hpp) applied in the vertical plane of the element's
-// velocity. Treers et al.'s empirical out-of-plane scaling factors are NOT included (they could not
-// be verified either); the out-of-plane part of the normal is handled by the area weight below.
+// Which law. The target is the three-dimensional RFT of Agarwal, Goldman and Kamrin (PNAS 120,
+// e2214017120, 2023; arXiv 2205.14920). Its formulation could not be taken from the paper's text,
+// and the only available values of its reduced-order functions (an unverified third-party
+// implementation) do not reduce to the planar generic form of training/rft.hpp
+// (docs/notes/2026-11-27-rft3d.md). This file therefore implements a PROJECTION law in the spirit
+// of Treers, Cao and Stuart (IEEE RA-L 6, 2021, "Granular resistive force theory implementation for
+// three-dimensional trajectories"): the planar law of Li, Zhang and Goldman (Science 2013;
+// training/rft.hpp) applied in the vertical plane of the element's velocity. Treers et al.'s
+// empirical out-of-plane scaling factors are NOT included; the out-of-plane part of the normal is
+// handled by the area weight below.
 //
 // The law. Element with unit normal n (either side for a thin plate, the outward normal of a closed
 // body's leading element) moving with velocity v, at depth |z| below the surface (z up):
