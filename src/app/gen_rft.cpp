@@ -43,6 +43,60 @@ namespace {
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
+
+// The samples a configuration asks for: planar (training/rft_config.hpp) or, with "dimension": 3,
+// spatial or planar from a 3-D foot (training/rft3d_config.hpp).
+struct Generated {
+  ForceDataset data;
+  std::string resolved;  // the complete configuration, indented
+  size_t directions = 0;
+  double torque_centre = 0.0;  // m, planar samples
+  bool spatial = false;
+};
+
+Generated generate(const nlohmann::json& config, const std::string& where, const std::string& out) {
+  Generated g;
+  if (isRft3dConfig(config, where)) {
+    const Rft3dConfig c = readRft3dConfig(config, where);
+    g.spatial = c.output == Rft3dOutput::Spatial;
+    if (g.spatial && !endsWith(out, ".h5"))
+      throw InputError("--out: the spatial (3-D) samples are written to a file ending in .h5 (the CSV folder is planar)");
+    g.data = rft3dConfigSamples(c);
+    g.resolved = c.resolved.dump(2);
+    g.directions = c.grid.directions.size();
+    g.torque_centre = c.torque_centre;
+    g.data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
+    return g;
+  }
+  nlohmann::json planar = config;
+  if (planar.is_object()) planar.erase("dimension");  // "dimension": 2 (checked above) is the planar default
+  const RftConfig c = readRftConfig(planar, where);
+  g.data = rftSamples(c.medium, c.foot, c.grid);
+  g.resolved = c.resolved.dump(2);
+  g.directions = c.grid.directions.size();
+  g.torque_centre = c.foot.torque_centre;
+  g.data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
+  return g;
+}
+
+void printSummary(const Generated& g, const std::string& out, const std::vector<std::string>& written) {
+  const Eigen::Index K = static_cast<Eigen::Index>(g.directions);
+  const Eigen::MatrixXd& w = g.data.wrench;
+  const Eigen::Index N = w.rows();
+  std::cout << "wrote " << N << " wrench samples (" << N / K << " points x " << K << " directions) to " << out;
+  if (written.size() > 1) {
+    std::cout << ":";
+    for (const std::string& name : written) std::cout << " " << name;
+  }
+  if (g.spatial) {
+    std::cout << "\nlargest |F| " << w.rightCols(3).rowwise().norm().maxCoeff() << " N, largest |tau| "
+              << w.leftCols(3).rowwise().norm().maxCoeff() << " N m (about the foot point)\n";
+  } else {
+    std::cout << "\nlargest |F_x| " << w.col(0).cwiseAbs().maxCoeff() << " N, largest |F_z| "
+              << w.col(1).cwiseAbs().maxCoeff() << " N, largest |tau_y| " << w.col(2).cwiseAbs().maxCoeff()
+              << " N m (about the torque centre, " << g.torque_centre << " m up the leg)\n";
+  }
+}
 }  // namespace
 
 int runGenRft(const Args& args) {
@@ -78,32 +132,8 @@ int runGenRft(const Args& args) {
   else
     checkOutputFolder(out, folder_files, inputs, "--out");
 
-  const bool spatial_config = isRft3dConfig(config, where);
-  std::string resolved;
-  ForceDataset data;
-  size_t direction_count = 0;
-  double torque_centre = 0.0;
-  bool spatial_output = false;
-  if (spatial_config) {
-    const Rft3dConfig c = readRft3dConfig(config, where);
-    spatial_output = c.output == Rft3dOutput::Spatial;
-    if (spatial_output && !endsWith(out, ".h5"))
-      throw InputError("--out: the spatial (3-D) samples are written to a file ending in .h5 (the CSV folder is planar)");
-    data = rft3dConfigSamples(c);
-    resolved = c.resolved.dump(2);
-    direction_count = c.grid.directions.size();
-    torque_centre = c.torque_centre;
-    data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
-  } else {
-    nlohmann::json planar = config;
-    if (planar.is_object()) planar.erase("dimension");  // "dimension": 2 (checked above) is the planar default
-    const RftConfig c = readRftConfig(planar, where);
-    data = rftSamples(c.medium, c.foot, c.grid);
-    resolved = c.resolved.dump(2);
-    direction_count = c.grid.directions.size();
-    torque_centre = c.foot.torque_centre;
-    data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
-  }
+  const Generated g = generate(config, where, out);
+  const ForceDataset& data = g.data;
   std::vector<std::string> written;
   if (endsWith(out, ".h5")) {
     writeForceDataset(out, data);
@@ -114,27 +144,11 @@ int runGenRft(const Args& args) {
     if (!std::filesystem::is_directory(out, ec)) throw InputError(out + ": cannot create the folder");
     writeFolderMarker(out, "gen-rft", folder_files);  // first: a folder left half-written is still ours
     writeSandSamplesCsv(out, data);
-    writeFileAtomically((std::filesystem::path(out) / "rft_config.json").string(), resolved + "\n");
+    writeFileAtomically((std::filesystem::path(out) / "rft_config.json").string(), g.resolved + "\n");
     written = folder_files;
   }
 
-  const Eigen::Index K = static_cast<Eigen::Index>(direction_count);
-  const Eigen::Index N = data.wrench.rows();
-  std::cout << "wrote " << N << " wrench samples (" << N / K << " points x " << K << " directions) to " << out;
-  if (written.size() > 1) {
-    std::cout << ":";
-    for (const std::string& w : written) std::cout << " " << w;
-  }
-  if (spatial_output) {
-    const Eigen::MatrixXd& w = data.wrench;
-    std::cout << "\nlargest |F| " << w.rightCols(3).rowwise().norm().maxCoeff() << " N, largest |tau| "
-              << w.leftCols(3).rowwise().norm().maxCoeff() << " N m (about the foot point)\n";
-  } else {
-    std::cout << "\nlargest |F_x| " << data.wrench.col(0).cwiseAbs().maxCoeff() << " N, largest |F_z| "
-              << data.wrench.col(1).cwiseAbs().maxCoeff() << " N, largest |tau_y| "
-              << data.wrench.col(2).cwiseAbs().maxCoeff() << " N m (about the torque centre, " << torque_centre
-              << " m up the leg)\n";
-  }
+  printSummary(g, out, written);
   return 0;
 }
 

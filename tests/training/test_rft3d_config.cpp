@@ -173,6 +173,25 @@ TEST(Rft3dConfig, DefaultsAndBadKeys) {
   expectConfigError(with({{"foot", {{"elements", 10000}}}}), {"grid", "more work"});
 }
 
+TEST(Rft3dConfig, TheResolvedConfigurationParsesToItself) {
+  // gen-rft writes it beside planar samples to regenerate them, and into the .h5's source.
+  const json configs[] = {
+      {{"dimension", 3}},
+      {{"dimension", 3}, {"output", "planar"}, {"foot", {{"torque_centre", 0.02}}}},
+      {{"dimension", 3.0},
+       {"foot", {{"shape", "blade"}, {"length", 0.05}, {"width", 0.02}, {"elements", 8}}},
+       {"grid", {{"directions", {{"type", "fibonacci"}, {"count", 40}}}}}},
+      {{"dimension", 3},
+       {"medium", {{"zeta", 2.71}}},
+       {"grid", {{"gammas", {0.1}}, {"directions", {{"type", "list"}, {"vectors", {{1, 0, 0}, {0, 0.5, -1}}}}}}}}};
+  for (const json& config : configs) {
+    const Rft3dConfig c = readRft3dConfig(config, "x");
+    const Rft3dConfig again = readRft3dConfig(json::parse(c.resolved.dump()), "resolved");
+    EXPECT_EQ(again.resolved, c.resolved) << config.dump();
+    EXPECT_EQ(rft3dConfigSamples(again).wrench, rft3dConfigSamples(c).wrench) << config.dump();
+  }
+}
+
 TEST(Rft3dConfig, TheShippedQuadrupedConfigurationReads) {
   const std::string path = std::string(NMDP_SOURCE_DIR) + "/data/granular/rft3d_quadruped_foot.json";
   const Rft3dConfig c = readRft3dConfig(loadJsonFile(path, "the 3-D RFT configuration"), path);
