@@ -9,6 +9,7 @@
 #include "io/output_path.hpp"
 #include "training/force_dataset.hpp"
 #include "training/rft.hpp"
+#include "training/rft3d_config.hpp"
 #include "training/rft_config.hpp"
 #include "training/sand_samples_csv.hpp"
 
@@ -29,16 +30,83 @@ const char* const kGenRftHelp =
     "                     wrench_samples.csv, scalars.txt) and rft_config.json, the complete\n"
     "                     configuration (pass it to --config to regenerate); a path ending in .h5: a\n"
     "                     force dataset (training/force_dataset.hpp)\n"
-    "  --schema           print every RFT.json key with its type, default, range, unit and use, and stop\n";
+    "  --schema           print every RFT.json key with its type, default, range, unit and use (the\n"
+    "                     planar keys, then the 3-D ones), and stop\n\n"
+    "A configuration with \"dimension\": 3 asks for three-dimensional RFT (training/rft3d_law.hpp: the\n"
+    "planar law applied in each surface element's vertical plane of motion) on a 3-D foot (sphere, plate\n"
+    "or blade) over depths x betas x gammas (the leg's sagittal and lateral leans) and translation\n"
+    "directions (default the 26 cube directions): \"output\": \"spatial\" (default) writes the 6-D\n"
+    "wrenches (tau_x, tau_y, tau_z, F_x, F_y, F_z) about the foot point to an .h5 file; \"output\":\n"
+    "\"planar\" the planar samples (F_x, F_z, tau_y) of the same foot and medium at gamma 0.\n";
 
 namespace {
 bool endsWith(const std::string& s, const std::string& tail) {
   return s.size() >= tail.size() && s.compare(s.size() - tail.size(), tail.size(), tail) == 0;
 }
+
+// The samples a configuration asks for: planar (training/rft_config.hpp) or, with "dimension": 3,
+// spatial or planar from a 3-D foot (training/rft3d_config.hpp).
+struct Generated {
+  ForceDataset data;
+  std::string resolved;  // the complete configuration, indented
+  size_t directions = 0;
+  double torque_centre = 0.0;  // m, planar samples
+  bool spatial = false;
+};
+
+Generated generate(const nlohmann::json& config, const std::string& where, const std::string& out) {
+  Generated g;
+  if (isRft3dConfig(config, where)) {
+    const Rft3dConfig c = readRft3dConfig(config, where);
+    g.spatial = c.output == Rft3dOutput::Spatial;
+    if (g.spatial && !endsWith(out, ".h5"))
+      throw InputError("--out: the spatial (3-D) samples are written to a file ending in .h5 (the CSV folder is planar)");
+    g.data = rft3dConfigSamples(c);
+    g.resolved = c.resolved.dump(2);
+    g.directions = c.grid.directions.size();
+    g.torque_centre = c.torque_centre;
+    g.data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
+    return g;
+  }
+  nlohmann::json planar = config;
+  if (planar.is_object()) planar.erase("dimension");  // "dimension": 2 (checked above) is the planar default
+  const RftConfig c = readRftConfig(planar, where);
+  g.data = rftSamples(c.medium, c.foot, c.grid);
+  g.resolved = c.resolved.dump(2);
+  g.directions = c.grid.directions.size();
+  g.torque_centre = c.foot.torque_centre;
+  g.data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
+  return g;
+}
+
+void printSummary(const Generated& g, const std::string& out, const std::vector<std::string>& written) {
+  const Eigen::Index K = static_cast<Eigen::Index>(g.directions);
+  const Eigen::MatrixXd& w = g.data.wrench;
+  const Eigen::Index N = w.rows();
+  std::cout << "wrote " << N << " wrench samples (" << N / K << " points x " << K << " directions) to " << out;
+  if (written.size() > 1) {
+    std::cout << ":";
+    for (const std::string& name : written) std::cout << " " << name;
+  }
+  if (g.spatial) {
+    std::cout << "\nlargest |F| " << w.rightCols(3).rowwise().norm().maxCoeff() << " N, largest |tau| "
+              << w.leftCols(3).rowwise().norm().maxCoeff() << " N m (about the foot point)\n";
+  } else {
+    std::cout << "\nlargest |F_x| " << w.col(0).cwiseAbs().maxCoeff() << " N, largest |F_z| "
+              << w.col(1).cwiseAbs().maxCoeff() << " N, largest |tau_y| " << w.col(2).cwiseAbs().maxCoeff()
+              << " N m (about the torque centre, " << g.torque_centre << " m up the leg)\n";
+  }
+}
 }  // namespace
 
 int runGenRft(const Args& args) {
-  if (args.size() == 1 && args[0] == "--schema") return std::cout << schemaText(rftConfigSchema()), 0;
+  if (args.size() == 1 && args[0] == "--schema") {
+    nlohmann::ordered_json both = rftConfigSchema();
+    const nlohmann::ordered_json spatial = rft3dConfigSchema();
+    for (auto it = spatial.begin(); it != spatial.end(); ++it)
+      both[it.key().empty() ? std::string("3d (\"dimension\": 3)") : "3d " + it.key()] = it.value();
+    return std::cout << schemaText(both), 0;
+  }
   nlohmann::json config = nlohmann::json::object();
   std::string where = "defaults", out;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -64,12 +132,10 @@ int runGenRft(const Args& args) {
   else
     checkOutputFolder(out, folder_files, inputs, "--out");
 
-  const RftConfig c = readRftConfig(config, where);
-  ForceDataset data = rftSamples(c.medium, c.foot, c.grid);
-  const std::string resolved = c.resolved.dump(2);
+  const Generated g = generate(config, where, out);
+  const ForceDataset& data = g.data;
   std::vector<std::string> written;
   if (endsWith(out, ".h5")) {
-    data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
     writeForceDataset(out, data);
     written.push_back(out);
   } else {
@@ -78,21 +144,11 @@ int runGenRft(const Args& args) {
     if (!std::filesystem::is_directory(out, ec)) throw InputError(out + ": cannot create the folder");
     writeFolderMarker(out, "gen-rft", folder_files);  // first: a folder left half-written is still ours
     writeSandSamplesCsv(out, data);
-    writeFileAtomically((std::filesystem::path(out) / "rft_config.json").string(), resolved + "\n");
+    writeFileAtomically((std::filesystem::path(out) / "rft_config.json").string(), g.resolved + "\n");
     written = folder_files;
   }
 
-  const Eigen::Index K = static_cast<Eigen::Index>(c.grid.directions.size());
-  const Eigen::Index N = data.wrench.rows();
-  std::cout << "wrote " << N << " wrench samples (" << N / K << " points x " << K << " directions) to " << out;
-  if (written.size() > 1) {
-    std::cout << ":";
-    for (const std::string& w : written) std::cout << " " << w;
-  }
-  std::cout << "\nlargest |F_x| " << data.wrench.col(0).cwiseAbs().maxCoeff() << " N, largest |F_z| "
-            << data.wrench.col(1).cwiseAbs().maxCoeff() << " N, largest |tau_y| "
-            << data.wrench.col(2).cwiseAbs().maxCoeff() << " N m (about the torque centre, "
-            << c.foot.torque_centre << " m up the leg)\n";
+  printSummary(g, out, written);
   return 0;
 }
 
