@@ -15,13 +15,9 @@
 // cycles. Per stance (duration T_s = duty · period) the turn is
 //   c = −(T_s / τ) wrap(ψ − ψ_ref),
 // with τ = one gait period: the heading error decays over about two stances. |c| is capped so
-// that no foot turns by more than half a stride. (A yaw-rate term, the error predicted to
-// mid-stance, made no difference: the trot's own yaw sway at the step frequency dominates ψ̇.)
-// All of it comes from the gait (period, duty, stride) and the feet; nothing is tuned per robot.
-//
-// Side-stepping the feet against e_y instead was tried: on A1 (hips 0.13 m apart) it pumps the
-// trot's roll sway until the trunk rolls over, while steering by the heading keeps the feet on
-// their stride.
+// that no foot turns by more than half a stride. The line is held through the heading, not by
+// side-stepping: sideways foot shifts pump the trot's roll sway (on A1, feet 0.26 m apart)
+// until it rolls over.
 //
 // The turn enters the joint targets linearly: the trot's keyframes' response to a unit turn is
 // precomputed by leg IK (makeTrotCorrectionModes), so a step costs one spline evaluation more and
