@@ -8,6 +8,7 @@
 
 #include "common/named_enum.hpp"
 #include "common/text.hpp"
+#include "control/heading_feedback.hpp"
 #include "control/start_ramp.hpp"
 
 namespace nmdp {
@@ -238,9 +239,11 @@ KeyframePdTarget makeStandTarget(const Model& model, const StandParameters& stan
   return KeyframePdTarget({0.0}, {context.pose.q}, {Eigen::VectorXd::Zero(model.nq)});
 }
 
-KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot_in, const StandParameters& stand) {
-  const GaitContext context = gaitContext(model, stand);
-  const TrotParameters trot = withRobotDefaults(trot_in, context.pose);
+namespace {
+
+// The trot's parameters with the robot's defaults, checked.
+TrotParameters checkedTrot(const TrotParameters& trot_in, const StandingPose& pose) {
+  const TrotParameters trot = withRobotDefaults(trot_in, pose);
   requirePositive(trot.period, "trot.period");
   requireNonNegative(*trot.stride_length, "trot.stride_length");
   requireNonNegative(*trot.step_height, "trot.step_height");
@@ -248,10 +251,13 @@ KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot_i
   if (trot.keyframes_per_period < 2) fail("trot.keyframes_per_period must be at least 2");
   if (!(trot.ground_speed_share >= 0 && trot.ground_speed_share < 1))
     fail("trot.ground_speed_share must lie in [0, 1)");
+  return trot;
+}
 
-  // Keyframe phases: every lift-off, mid-swing and touch-down of both pairs (and the end of the
-  // forward travel of a ground-speed swing), with the gaps between them subdivided to at least
-  // keyframes_per_period per cycle.
+// Keyframe phases: every lift-off, mid-swing and touch-down of both pairs (and the end of the
+// forward travel of a ground-speed swing), with the gaps between them subdivided to at least
+// keyframes_per_period per cycle.
+std::vector<double> trotKeyframePhases(const TrotParameters& trot) {
   const double swing = 1.0 - trot.duty_factor;
   std::vector<double> swing_events = {0.0, swing / 2, swing};
   if (trot.swing_profile == SwingProfile::GroundSpeed) swing_events.push_back(swing * (1.0 - trot.ground_speed_share));
@@ -269,22 +275,71 @@ KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot_i
     const int pieces = std::max(1, static_cast<int>(std::ceil((next - events[e]) * trot.keyframes_per_period - 1e-9)));
     for (int i = 0; i < pieces; ++i) phases.push_back(events[e] + (next - events[e]) * i / pieces);
   }
+  return phases;
+}
 
+// Solves every leg of q for the trot's foot targets at time t (q seeds the IK).
+void solveTrotKeyframe(LegIkSolver& ik, const GaitContext& context, const TrotParameters& trot, double t,
+                       Eigen::VectorXd& q) {
+  for (int id = 0; id < 4; ++id) {
+    const LegId leg = static_cast<LegId>(id);
+    const Vec3 target = context.pose.feet[id] + trotFootDisplacement(trot, trotLegPhase(trot, leg, t));
+    solveOrThrow(ik, context.legs.legs[id], leg, target, q, "trot (stride_length, step_height)");
+  }
+}
+
+}  // namespace
+
+KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot_in, const StandParameters& stand) {
+  const GaitContext context = gaitContext(model, stand);
+  const TrotParameters trot = checkedTrot(trot_in, context.pose);
   LegIkSolver ik(model, readJointLimits(model));
   std::vector<double> times;
   std::vector<Eigen::VectorXd> positions;
   Eigen::VectorXd q = context.pose.q;  // each keyframe's IK starts from the previous one
-  for (double phase : phases) {
+  for (double phase : trotKeyframePhases(trot)) {
     const double t = phase * trot.period;
-    for (int id = 0; id < 4; ++id) {
-      const LegId leg = static_cast<LegId>(id);
-      const Vec3 target = context.pose.feet[id] + trotFootDisplacement(trot, trotLegPhase(trot, leg, t));
-      solveOrThrow(ik, context.legs.legs[id], leg, target, q, "trot (stride_length, step_height)");
-    }
+    solveTrotKeyframe(ik, context, trot, t, q);
     times.push_back(t);
     positions.push_back(q);
   }
   return KeyframePdTarget(std::move(times), positions, {}, SplineEndMode::Periodic, trot.period);
+}
+
+TrotCorrectionModes makeTrotCorrectionModes(const Model& model, const TrotParameters& trot_in,
+                                            const StandParameters& stand) {
+  const GaitContext context = gaitContext(model, stand);
+  const TrotParameters trot = checkedTrot(trot_in, context.pose);
+  TrotParameters unit_stride = trot;
+  unit_stride.stride_length = 1.0;
+  // Central-difference step of the correction: foot moves of at most ~1e-4 m · (foot distance),
+  // far above the IK tolerance (1e-11 m) and far below the leg's curvature scale.
+  constexpr double kStep = 1e-4;
+  LegIkSolver ik(model, readJointLimits(model));
+  std::vector<double> times;
+  std::vector<Eigen::VectorXd> turns;
+  Eigen::VectorXd q = context.pose.q;  // the trot's own keyframes, as makeTrotTarget builds them
+  for (double phase : trotKeyframePhases(trot)) {
+    const double t = phase * trot.period;
+    solveTrotKeyframe(ik, context, trot, t, q);
+    Eigen::VectorXd turn = Eigen::VectorXd::Zero(model.nq);
+    for (int id = 0; id < 4; ++id) {
+      const LegId leg_id = static_cast<LegId>(id);
+      const Leg& leg = context.legs.legs[id];
+      const double u = trotLegPhase(trot, leg_id, t);
+      const double w = trotFootDisplacement(unit_stride, u).x();
+      const Vec3 target = context.pose.feet[id] + trotFootDisplacement(trot, u);
+      const Vec3 move = w * Vec3(-target.y(), target.x(), 0.0);  // ẑ × target: rotation about the trunk z axis
+      if (move.isZero()) continue;
+      Eigen::VectorXd plus = q, minus = q;
+      solveOrThrow(ik, leg, leg_id, target + kStep * move, plus, "trot heading feedback");
+      solveOrThrow(ik, leg, leg_id, target - kStep * move, minus, "trot heading feedback");
+      for (int j : leg.joints) turn[j] = (plus[j] - minus[j]) / (2 * kStep);
+    }
+    times.push_back(t);
+    turns.push_back(turn);
+  }
+  return {KeyframePdTarget(std::move(times), turns, {}, SplineEndMode::Periodic, trot.period)};
 }
 
 KeyframePdTarget makeJumpTarget(const Model& model, const JumpParameters& jump_in, const StandParameters& stand) {
@@ -346,10 +401,15 @@ std::unique_ptr<PdTargetSource> makeGaitTarget(const Model& model, const GaitPar
     case GaitType::Stand: return std::make_unique<KeyframePdTarget>(makeStandTarget(model, gait.stand));
     case GaitType::Trot: {
       requireNonNegative(gait.trot.start_ramp, "trot.start_ramp");
-      auto trot = std::make_unique<KeyframePdTarget>(makeTrotTarget(model, gait.trot, gait.stand));
-      if (gait.trot.start_ramp == 0) return trot;
-      return std::make_unique<StartRampPdTarget>(std::move(trot), gaitContext(model, gait.stand).pose.q,
-                                                 gait.trot.start_ramp);
+      std::unique_ptr<PdTargetSource> trot = std::make_unique<KeyframePdTarget>(makeTrotTarget(model, gait.trot, gait.stand));
+      if (gait.trot.start_ramp > 0)
+        trot = std::make_unique<StartRampPdTarget>(std::move(trot), gaitContext(model, gait.stand).pose.q,
+                                                   gait.trot.start_ramp);
+      if (!gait.trot.heading_feedback.value_or(model.base == BaseType::Floating)) return trot;
+      if (model.base != BaseType::Floating) fail("trot.heading_feedback needs a floating base");
+      const GaitContext context = gaitContext(model, gait.stand);
+      return std::make_unique<HeadingFeedbackPdTarget>(std::move(trot), makeTrotCorrectionModes(model, gait.trot, gait.stand).turn,
+                                                       headingFeedbackGains(withRobotDefaults(gait.trot, context.pose), context.pose));
     }
     case GaitType::Jump: return std::make_unique<KeyframePdTarget>(makeJumpTarget(model, gait.jump, gait.stand));
   }

@@ -61,6 +61,9 @@ struct TrotParameters {
   // s over which the targets blend in from the standing pose (control/start_ramp.hpp); 0: none,
   // the targets start half a stride away from the standing pose. makeGaitTarget only.
   double start_ramp = 0.0;
+  // Heading and line feedback (control/heading_feedback.hpp); unset: on for a floating base, off
+  // otherwise (a planar base can neither yaw nor drift sideways). makeGaitTarget only.
+  std::optional<bool> heading_feedback;
 };
 
 struct JumpParameters {
@@ -110,11 +113,23 @@ JumpParameters withRobotDefaults(const JumpParameters& jump, const StandingPose&
 Vec3 trotFootDisplacement(const TrotParameters& resolved, double u);
 double trotLegPhase(const TrotParameters& resolved, LegId leg, double t);
 
+// The trot's keyframes' response to a unit turn (control/heading_feedback.hpp), as joint targets
+// on the trot's keyframe times (base entries 0): every foot target rotated about the trunk's
+// vertical axis by w(u) rad, w(u) the stride's own profile for a unit stride (trotFootDisplacement's
+// x with stride 1: +1/2 at touch-down, −1/2 at lift-off), so a turn c yaws the trunk by c per
+// stance on feet that do not slip. By leg IK linearized with central differences.
+struct TrotCorrectionModes {
+  KeyframePdTarget turn;
+};
+TrotCorrectionModes makeTrotCorrectionModes(const Model& model, const TrotParameters& trot = {},
+                                            const StandParameters& stand = {});
+
 // Builders; all throw std::invalid_argument naming the parameter for invalid or unreachable sizes.
 KeyframePdTarget makeStandTarget(const Model& model, const StandParameters& stand = {});
 KeyframePdTarget makeTrotTarget(const Model& model, const TrotParameters& trot = {}, const StandParameters& stand = {});
 KeyframePdTarget makeJumpTarget(const Model& model, const JumpParameters& jump = {}, const StandParameters& stand = {});
-// The gait's targets; a trot with start_ramp > 0 blends in from the standing pose.
+// The gait's targets; a trot with start_ramp > 0 blends in from the standing pose, and a trot with
+// heading feedback (by default on a floating base) corrects its heading and line.
 std::unique_ptr<PdTargetSource> makeGaitTarget(const Model& model, const GaitParameters& gait);
 
 }  // namespace nmdp

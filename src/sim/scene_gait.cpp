@@ -48,6 +48,9 @@ std::unique_ptr<PdTargetSource> gaitFor(const SceneConfig& c, const Model& model
   }
   GaitParameters gait = c.gait;
   gait.stand = standParameters(c, model);
+  if (gait.type == GaitType::Trot && gait.trot.heading_feedback.value_or(false) && model.base != BaseType::Floating)
+    (wg / "heading_feedback").fail(std::string("needs a floating base (a ") + baseTypeName(model.base) +
+                                   " base can neither yaw nor drift sideways); set it to false or remove it");
   try {
     return makeGaitTarget(model, gait);
   } catch (const std::invalid_argument& e) {

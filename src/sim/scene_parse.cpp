@@ -303,6 +303,7 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
       }
       g.trot.ground_speed_share = number(in, "ground_speed_share", g.trot.ground_speed_share, w, atLeast(0), below(1));
       g.trot.start_ramp = number(in, "start_ramp", g.trot.start_ramp, w, atLeast(0), atMost(kMaxGaitTime));
+      if (in.contains("heading_feedback")) g.trot.heading_feedback = boolean(in, "heading_feedback", true, w);
       if (g.trot.stride_length) out["stride_length"] = *g.trot.stride_length;
       if (g.trot.step_height) out["step_height"] = *g.trot.step_height;
       out["period"] = g.trot.period;
@@ -310,6 +311,7 @@ void parseGait(const json& in, const Where& w, SceneConfig& c, json& out) {
       out["swing_profile"] = swingProfileName(g.trot.swing_profile);
       out["ground_speed_share"] = g.trot.ground_speed_share;
       out["start_ramp"] = g.trot.start_ramp;
+      if (g.trot.heading_feedback) out["heading_feedback"] = *g.trot.heading_feedback;
       break;
     case SceneGaitType::Jump:
       g.type = GaitType::Jump;

@@ -66,6 +66,7 @@ json resolvedWithModel(const SceneConfig& c, const Model& model) {
       const TrotParameters t = withRobotDefaults(c.gait.trot, *s.pose);
       gait["stride_length"] = *t.stride_length;
       gait["step_height"] = *t.step_height;
+      gait["heading_feedback"] = t.heading_feedback.value_or(model.base == BaseType::Floating);
     } else if (c.gait_type == SceneGaitType::Jump) {
       const JumpParameters j = withRobotDefaults(c.gait.jump, *s.pose);
       gait["crouch_depth"] = *j.crouch_depth;

@@ -26,7 +26,8 @@ struct Simulation::Parts {
   SimulationState state;
   nlohmann::json resolved;
   std::vector<Observer> observers;
-  Data pose_data;  // basePose's kinematics, apart from the integrator's
+  Data pose_data;  // basePose's and trunkState's kinematics, apart from the integrator's
+  TrunkState trunk_start;  // the trunk at t = 0: the heading and line a trot's feedback holds
 };
 
 namespace {
@@ -40,6 +41,19 @@ auto asInputError(const std::string& where, F&& f) -> decltype(f()) {
   } catch (const std::invalid_argument& e) {
     throw InputError(where + ": " + e.what());
   }
+}
+
+// The trunk's yaw and horizontal position for a floating base (zero otherwise).
+TrunkState trunkState(const Model& model, Data& data, const Mat3& chart, const Eigen::VectorXd& q) {
+  TrunkState trunk;
+  if (model.base != BaseType::Floating) return trunk;
+  data.base_chart = chart;
+  forwardKinematics(model, data, q);
+  Vec3 position, rpy;
+  basePose(model, data, position, rpy);
+  trunk.yaw = rpy.z();
+  trunk.position = position.head<2>();
+  return trunk;
 }
 
 }  // namespace
@@ -70,6 +84,7 @@ Simulation buildSimulation(const SceneConfig& scene, Model robot, const ContactM
   p->qd0 = initialVelocity(config, p->model);
   p->workspace = std::make_unique<StepWorkspace>(p->system, config.integrator);
   p->state = initialState(p->system, config.integrator, p->q0, p->qd0, config.dt);
+  p->trunk_start = trunkState(p->model, p->pose_data, p->state.base_chart, p->state.q);
   p->resolved = resolvedWithModel(config, p->model);
   // The model's own account of its parameters lists the defaults it filled in, not only the keys given.
   if (nlohmann::json used = p->contact_model->configuration(); !used.is_null()) p->resolved["contacts"]["model"] = std::move(used);
@@ -83,6 +98,8 @@ Simulation::~Simulation() = default;
 
 StepStats Simulation::step(CancelFlag cancel) {
   Parts& p = *parts_;
+  if (p.targets->observesTrunk())
+    p.targets->observeTrunk(p.trunk_start, trunkState(p.model, p.pose_data, p.state.base_chart, p.state.q));
   const StepStats stats = advance(p.system, p.scene.integrator, *p.targets, p.state, p.scene.dt, *p.workspace, cancel);
   if (stats.converged)
     for (const Observer& observer : p.observers) observer(*this, stats);
