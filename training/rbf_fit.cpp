@@ -14,6 +14,22 @@
 
 namespace nmdp {
 
+namespace {
+// Φ_ik = κ(‖S(f_i − f_k)‖) into the top-left P×P block of A, from the scaled points (P×F). The
+// distance is taken over rows of F fixed columns, so that the planar fit keeps the rounding it has
+// always had (a dynamic row length changes how the compiler fuses the sum of squares).
+template <int F>
+void fillKernelMatrix(const Eigen::MatrixXd& scaled_points, RbfKernel kernel, double epsilon, Eigen::MatrixXd& A) {
+  const Eigen::Matrix<double, Eigen::Dynamic, F> scaled = scaled_points;
+  for (Eigen::Index i = 0; i < scaled.rows(); ++i)
+    for (Eigen::Index k = 0; k <= i; ++k) {
+      double kappa = 0.0, g = 0.0;
+      rbfKernel(kernel, epsilon, (scaled.row(i) - scaled.row(k)).squaredNorm(), &kappa, &g);
+      A(i, k) = A(k, i) = kappa;
+    }
+}
+}  // namespace
+
 RbfSolution solveRbfSystem(const PointSetView& points, RbfKernel kernel, const Eigen::VectorXd& scaling,
                            double epsilon, double ridge, bool polynomial, const std::string& where) {
   if (!(ridge >= 0.0) || !std::isfinite(ridge)) throw std::invalid_argument("fitRbf: the ridge must be finite and >= 0");
@@ -40,12 +56,12 @@ RbfSolution solveRbfSystem(const PointSetView& points, RbfKernel kernel, const E
   // A = [Φ + λI, P; Pᵀ, 0].
   const Eigen::MatrixXd scaled = points.features * scaling.asDiagonal();
   Eigen::MatrixXd A = Eigen::MatrixXd::Zero(P + T, P + T);
-  for (Eigen::Index i = 0; i < P; ++i)
-    for (Eigen::Index k = 0; k <= i; ++k) {
-      double kappa = 0.0, g = 0.0;
-      rbfKernel(kernel, epsilon, (scaled.row(i) - scaled.row(k)).squaredNorm(), &kappa, &g);
-      A(i, k) = A(k, i) = kappa;
-    }
+  if (F == 2)
+    fillKernelMatrix<2>(scaled, kernel, epsilon, A);
+  else if (F == 3)
+    fillKernelMatrix<3>(scaled, kernel, epsilon, A);
+  else
+    throw std::invalid_argument("fitRbf: points need 2 or 3 features");
   A.topLeftCorner(P, P).diagonal().array() += ridge;
   if (T) {
     A.block(0, P, P, 1).setOnes();
