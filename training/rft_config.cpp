@@ -37,8 +37,10 @@ const json& child(const json& object, const std::string& key) {
 // Depths and angles of one grid; the directions are the wrench space's vertices.
 constexpr size_t kMaxGridValues = 1000;
 
-std::vector<double> readDistinct(const json& object, const std::string& key, const std::vector<double>& fallback,
-                                 const ConfigContext& ctx, double lo, double hi, const std::string& range) {
+}  // namespace
+
+std::vector<double> readRftGridValues(const json& object, const std::string& key, const std::vector<double>& fallback,
+                                      const ConfigContext& ctx, double lo, double hi, const std::string& range) {
   const std::vector<double> v = readNumbers(object, key, fallback, ctx);
   const std::string at = ctx.where + "." + key;
   if (v.empty()) throw InputError(at + ": expected at least one value");
@@ -52,7 +54,7 @@ std::vector<double> readDistinct(const json& object, const std::string& key, con
   return v;
 }
 
-RftMedium readMedium(const json& m, const std::string& where, ojson& resolved) {
+RftMedium readRftMedium(const json& m, const std::string& where, ojson& resolved) {
   checkKeys(m, where, "medium");
   const ConfigContext ctx{where + ": medium", ""};
   RftMedium medium;
@@ -79,6 +81,8 @@ RftMedium readMedium(const json& m, const std::string& where, ojson& resolved) {
   resolved = {{"zeta", medium.zeta}, {"coefficients", coefficients}};
   return medium;
 }
+
+namespace {
 
 RftFoot readFoot(const json& f, const std::string& where, ojson& resolved) {
   const ConfigContext ctx{where + ": foot", ""};
@@ -218,15 +222,15 @@ RftConfig readRftConfig(const json& config, const std::string& where) {
   checkKeys(config, where, "");
   RftConfig c;
   ojson medium, foot, grid = ojson::object(), directions;
-  c.medium = readMedium(child(config, "medium"), where, medium);
+  c.medium = readRftMedium(child(config, "medium"), where, medium);
   c.foot = readFoot(child(config, "foot"), where, foot);
   const json& g = child(config, "grid");
   checkKeys(g, where, "grid");
   const ConfigContext gctx{where + ": grid", ""};
   // The defaults are the points of the published sand samples (granular/README.md).
-  c.grid.depths = readDistinct(g, "depths", {-0.01, -0.03, -0.05, -0.07, 0.0}, gctx, -100.0, 0.0,
+  c.grid.depths = readRftGridValues(g, "depths", {-0.01, -0.03, -0.05, -0.07, 0.0}, gctx, -100.0, 0.0,
                                "[-100, 0] (m, negative below the surface)");
-  c.grid.angles = readDistinct(g, "angles", {0.0, 0.3, 0.6, 0.9}, gctx, -kHalfPi, kHalfPi, "[-pi/2, pi/2] (rad)");
+  c.grid.angles = readRftGridValues(g, "angles", {0.0, 0.3, 0.6, 0.9}, gctx, -kHalfPi, kHalfPi, "[-pi/2, pi/2] (rad)");
   c.grid.directions =
       readDirections(g.contains("directions") ? g.at("directions") : json{{"type", "circle"}}, where, directions);
   // The work of gen-rft is samples × elements evaluations of the stress: bounded to seconds.

@@ -9,6 +9,7 @@
 #include "io/output_path.hpp"
 #include "training/force_dataset.hpp"
 #include "training/rft.hpp"
+#include "training/rft3d_config.hpp"
 #include "training/rft_config.hpp"
 #include "training/sand_samples_csv.hpp"
 
@@ -29,7 +30,14 @@ const char* const kGenRftHelp =
     "                     wrench_samples.csv, scalars.txt) and rft_config.json, the complete\n"
     "                     configuration (pass it to --config to regenerate); a path ending in .h5: a\n"
     "                     force dataset (training/force_dataset.hpp)\n"
-    "  --schema           print every RFT.json key with its type, default, range, unit and use, and stop\n";
+    "  --schema           print every RFT.json key with its type, default, range, unit and use (the\n"
+    "                     planar keys, then the 3-D ones), and stop\n\n"
+    "A configuration with \"dimension\": 3 asks for three-dimensional RFT (training/rft3d_law.hpp: the\n"
+    "planar law applied in each surface element's vertical plane of motion) on a 3-D foot (sphere, plate\n"
+    "or blade) over depths x betas x gammas (the leg's sagittal and lateral leans) and translation\n"
+    "directions (default the 26 cube directions): \"output\": \"spatial\" (default) writes the 6-D\n"
+    "wrenches (tau_x, tau_y, tau_z, F_x, F_y, F_z) about the foot point to an .h5 file; \"output\":\n"
+    "\"planar\" the planar samples (F_x, F_z, tau_y) of the same foot and medium at gamma 0.\n";
 
 namespace {
 bool endsWith(const std::string& s, const std::string& tail) {
@@ -38,7 +46,11 @@ bool endsWith(const std::string& s, const std::string& tail) {
 }  // namespace
 
 int runGenRft(const Args& args) {
-  if (args.size() == 1 && args[0] == "--schema") return std::cout << schemaText(rftConfigSchema()), 0;
+  if (args.size() == 1 && args[0] == "--schema") {
+    nlohmann::ordered_json both = rftConfigSchema();
+    for (const auto& [section, rows] : rft3dConfigSchema().items()) both["3d: " + section] = rows;
+    return std::cout << schemaText(both), 0;
+  }
   nlohmann::json config = nlohmann::json::object();
   std::string where = "defaults", out;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -64,12 +76,34 @@ int runGenRft(const Args& args) {
   else
     checkOutputFolder(out, folder_files, inputs, "--out");
 
-  const RftConfig c = readRftConfig(config, where);
-  ForceDataset data = rftSamples(c.medium, c.foot, c.grid);
-  const std::string resolved = c.resolved.dump(2);
+  const bool spatial_config = isRft3dConfig(config, where);
+  std::string resolved;
+  ForceDataset data;
+  size_t direction_count = 0;
+  double torque_centre = 0.0;
+  bool spatial_output = false;
+  if (spatial_config) {
+    const Rft3dConfig c = readRft3dConfig(config, where);
+    spatial_output = c.output == Rft3dOutput::Spatial;
+    if (spatial_output && !endsWith(out, ".h5"))
+      throw InputError("--out: the spatial (3-D) samples are written to a file ending in .h5 (the CSV folder is planar)");
+    data = rft3dConfigSamples(c);
+    resolved = c.resolved.dump(2);
+    direction_count = c.grid.directions.size();
+    torque_centre = c.torque_centre;
+    data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
+  } else {
+    nlohmann::json planar = config;
+    if (planar.is_object()) planar.erase("dimension");  // "dimension": 2 (checked above) is the planar default
+    const RftConfig c = readRftConfig(planar, where);
+    data = rftSamples(c.medium, c.foot, c.grid);
+    resolved = c.resolved.dump(2);
+    direction_count = c.grid.directions.size();
+    torque_centre = c.foot.torque_centre;
+    data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
+  }
   std::vector<std::string> written;
   if (endsWith(out, ".h5")) {
-    data.source += "; nmdp gen-rft configuration: " + c.resolved.dump();
     writeForceDataset(out, data);
     written.push_back(out);
   } else {
@@ -82,17 +116,23 @@ int runGenRft(const Args& args) {
     written = folder_files;
   }
 
-  const Eigen::Index K = static_cast<Eigen::Index>(c.grid.directions.size());
+  const Eigen::Index K = static_cast<Eigen::Index>(direction_count);
   const Eigen::Index N = data.wrench.rows();
   std::cout << "wrote " << N << " wrench samples (" << N / K << " points x " << K << " directions) to " << out;
   if (written.size() > 1) {
     std::cout << ":";
     for (const std::string& w : written) std::cout << " " << w;
   }
-  std::cout << "\nlargest |F_x| " << data.wrench.col(0).cwiseAbs().maxCoeff() << " N, largest |F_z| "
-            << data.wrench.col(1).cwiseAbs().maxCoeff() << " N, largest |tau_y| "
-            << data.wrench.col(2).cwiseAbs().maxCoeff() << " N m (about the torque centre, "
-            << c.foot.torque_centre << " m up the leg)\n";
+  if (spatial_output) {
+    const Eigen::MatrixXd& w = data.wrench;
+    std::cout << "\nlargest |F| " << w.rightCols(3).rowwise().norm().maxCoeff() << " N, largest |tau| "
+              << w.leftCols(3).rowwise().norm().maxCoeff() << " N m (about the foot point)\n";
+  } else {
+    std::cout << "\nlargest |F_x| " << data.wrench.col(0).cwiseAbs().maxCoeff() << " N, largest |F_z| "
+              << data.wrench.col(1).cwiseAbs().maxCoeff() << " N, largest |tau_y| "
+              << data.wrench.col(2).cwiseAbs().maxCoeff() << " N m (about the torque centre, " << torque_centre
+              << " m up the leg)\n";
+  }
   return 0;
 }
 
