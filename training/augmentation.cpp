@@ -14,11 +14,6 @@
 namespace nmdp {
 
 namespace {
-std::string pointText(double phi, double beta) {
-  std::ostringstream s;
-  s << "(phi " << phi << ", beta " << beta << ")";
-  return s.str();
-}
 
 // Index of the row of `features` (first `rows` rows) equal to (phi, beta), or −1.
 Eigen::Index findPoint(const Eigen::MatrixX2d& features, Eigen::Index rows, double phi, double beta) {
@@ -33,6 +28,17 @@ constexpr EnumName<PointOrigin> kPointOrigins[] = {
 
 const char* pointOriginName(PointOrigin origin) { return nameOf(kPointOrigins, origin); }
 
+std::string featurePointText(const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::Index i, int precision) {
+  static const char* const kNames[] = {"phi", "beta", "gamma"};
+  std::ostringstream s;
+  s.precision(precision);
+  s << "(";
+  for (Eigen::Index c = 0; c < features.cols(); ++c)
+    s << (c ? ", " : "") << (c < 3 ? kNames[c] : "f" + std::to_string(c)) << " " << features(i, c);
+  s << ")";
+  return s.str();
+}
+
 PlanarPoints groupPlanarSamples(const ForceDataset& data, const std::string& where) {
   validateForceDataset(data, where);
   if (data.features.cols() != 2 || data.feature_names != std::vector<std::string>{"phi", "beta"})
@@ -43,7 +49,16 @@ PlanarPoints groupPlanarSamples(const ForceDataset& data, const std::string& whe
   if (data.wrench.cols() != 3)
     throw InputError(where + ": dataset '/wrench' must be N x 3 (F_x, F_z, tau_y) for a planar model, it is N x " +
                      std::to_string(data.wrench.cols()));
-  const Eigen::Index N = data.features.rows();
+  GroupedSamples grouped = groupSamplesByPoint(data, where);
+  PlanarPoints out;
+  out.features = grouped.features;
+  out.values = std::move(grouped.values);
+  out.origin.assign(out.features.rows(), PointOrigin::Measured);
+  return out;
+}
+
+GroupedSamples groupSamplesByPoint(const ForceDataset& data, const std::string& where) {
+  const Eigen::Index N = data.features.rows(), F = data.features.cols(), W = data.wrench.cols();
   const int K = data.vertex.maxCoeff() + 1;
   if (K > N) {  // checked before sizing anything by K: every point needs all K vertices
     Eigen::Index row = 0;
@@ -52,36 +67,37 @@ PlanarPoints groupPlanarSamples(const ForceDataset& data, const std::string& whe
                      std::to_string(row) + ", but there are only " + std::to_string(N) +
                      " samples: every point needs one sample of each vertex 0.." + std::to_string(K - 1));
   }
-
-  std::map<std::pair<double, double>, int> index;  // point → row of the output
-  std::vector<Eigen::Index> first_row;             // the first sample of each point
+  const auto point = [&](Eigen::Index s) {
+    std::vector<double> f(F);
+    for (Eigen::Index c = 0; c < F; ++c) f[c] = data.features(s, c);
+    return f;
+  };
+  std::map<std::vector<double>, int> index;  // point → row of the output
+  std::vector<Eigen::Index> first_row;       // the first sample of each point
   for (Eigen::Index s = 0; s < N; ++s)
-    if (index.emplace(std::make_pair(data.features(s, 0), data.features(s, 1)), static_cast<int>(first_row.size()))
-            .second)
-      first_row.push_back(s);
+    if (index.emplace(point(s), static_cast<int>(first_row.size())).second) first_row.push_back(s);
   const Eigen::Index P = static_cast<Eigen::Index>(first_row.size());
 
-  PlanarPoints out;
-  out.features.resize(P, 2);
-  out.values.resize(P, 3 * K);
-  out.origin.assign(P, PointOrigin::Measured);
+  GroupedSamples out;
+  out.features.resize(P, F);
+  out.values.resize(P, W * K);
   std::vector<Eigen::Index> sample_of(P * K, -1);  // (point, vertex) → sample row
   for (Eigen::Index s = 0; s < N; ++s) {
-    const int p = index.at({data.features(s, 0), data.features(s, 1)});
+    const int p = index.at(point(s));
     const int v = data.vertex[s];
     Eigen::Index& seen = sample_of[p * K + v];
     if (seen >= 0)
       throw InputError(where + ": duplicate sample: rows " + std::to_string(seen) + " and " + std::to_string(s) +
                        " both give vertex " + std::to_string(v) + " at the point " +
-                       pointText(data.features(s, 0), data.features(s, 1)) + "; remove one");
+                       featurePointText(data.features, s) + "; remove one");
     seen = s;
     out.features.row(p) = data.features.row(s);
-    out.values.block(p, 3 * v, 1, 3) = data.wrench.row(s);
+    out.values.block(p, W * v, 1, W) = data.wrench.row(s);
   }
   for (Eigen::Index p = 0; p < P; ++p)
     for (int v = 0; v < K; ++v)
       if (sample_of[p * K + v] < 0)
-        throw InputError(where + ": the point " + pointText(out.features(p, 0), out.features(p, 1)) + " (first row " +
+        throw InputError(where + ": the point " + featurePointText(out.features, p) + " (first row " +
                          std::to_string(first_row[p]) + ") has no sample of vertex " + std::to_string(v) +
                          ": every point needs all " + std::to_string(K) + " vertices (0.." + std::to_string(K - 1) +
                          ")");
@@ -95,10 +111,14 @@ bool dataCoversOneSide(const PlanarPoints& points) {
 }
 
 std::vector<double> scaledPublishedHeights(const PlanarPoints& points) {
+  return scaledPublishedHeights(points.features.col(0));
+}
+
+std::vector<double> scaledPublishedHeights(const Eigen::Ref<const Eigen::VectorXd>& phi) {
   // The published sand model's zero-wrench heights (granular/README.md), for its 7 cm of data.
   static constexpr double kPublishedHeights[] = {0.01, 0.03, 0.05, 0.1, 0.2, 0.3, 0.4, 0.6, 0.8, 1.0};
   constexpr double kPublishedDepthSpan = 0.07;
-  const double lowest = points.pointCount() > 0 ? points.features.col(0).minCoeff() : 0.0;
+  const double lowest = phi.size() > 0 ? phi.minCoeff() : 0.0;
   const double span = lowest < 0.0 ? -lowest : kPublishedDepthSpan;
   std::vector<double> heights;
   for (double h : kPublishedHeights) heights.push_back(h * (span / kPublishedDepthSpan));
@@ -199,22 +219,22 @@ PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& req
   return out;
 }
 
-Eigen::VectorXd pointScales(const PlanarPoints& points) {
-  const double overall = points.values.size() ? points.values.cwiseAbs().maxCoeff() : 0.0;
-  Eigen::VectorXd scale(points.pointCount());
-  for (int i = 0; i < points.pointCount(); ++i) {
-    const double local = points.values.row(i).cwiseAbs().maxCoeff();
+Eigen::VectorXd pointScales(const Eigen::MatrixXd& values) {
+  const double overall = values.size() ? values.cwiseAbs().maxCoeff() : 0.0;
+  Eigen::VectorXd scale(values.rows());
+  for (Eigen::Index i = 0; i < values.rows(); ++i) {
+    const double local = values.row(i).cwiseAbs().maxCoeff();
     scale[i] = local > 0.0 ? local : overall;
   }
   return scale;
 }
 
-Eigen::MatrixXd relativeVertexErrors(const Eigen::MatrixXd& error, const Eigen::VectorXd& scale) {
-  const Eigen::Index P = error.rows(), K = error.cols() / 3;
+Eigen::MatrixXd relativeVertexErrors(const Eigen::MatrixXd& error, const Eigen::VectorXd& scale, int wrench_size) {
+  const Eigen::Index P = error.rows(), W = wrench_size, K = error.cols() / W;
   Eigen::MatrixXd relative(P, K);
   for (Eigen::Index i = 0; i < P; ++i)
     for (Eigen::Index j = 0; j < K; ++j)
-      relative(i, j) = error.block(i, 3 * j, 1, 3).cwiseAbs().maxCoeff() / (scale[i] > 0.0 ? scale[i] : 1.0);
+      relative(i, j) = error.block(i, W * j, 1, W).cwiseAbs().maxCoeff() / (scale[i] > 0.0 ? scale[i] : 1.0);
   return relative;
 }
 

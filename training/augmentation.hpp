@@ -35,6 +35,30 @@ struct PlanarPoints {
   int vertexCount() const { return static_cast<int>(values.cols() / 3); }
 };
 
+// Any fit's points as the fitting code sees them: P points of F features (2 planar, 3 spatial) with
+// K vertices of W entries each (3 planar, 6 spatial), vertex j in columns W j .. W j + W − 1.
+struct PointSetView {
+  Eigen::Ref<const Eigen::MatrixXd> features;  // P×F
+  const Eigen::MatrixXd& values;               // P×WK
+  const std::vector<PointOrigin>& origin;      // P
+  int wrench_size;                             // W
+  Eigen::Index pointCount() const { return features.rows(); }
+  Eigen::Index vertexCount() const { return values.cols() / wrench_size; }
+};
+inline PointSetView viewOf(const PlanarPoints& p) { return {p.features, p.values, p.origin, 3}; }
+
+// "(phi -0.01, beta 0.3)" or "(phi -0.01, beta 0.3, gamma 0.6)": row i by its 2 or 3 features.
+std::string featurePointText(const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::Index i, int precision = 6);
+
+// The samples of a dataset grouped by feature point (in order of first appearance): P×F features
+// and P×WK values, vertex v of a point in columns W v .. W v + W − 1 (W = the wrench's columns).
+// Throws InputError "`where`: ..." naming the point and the vertex for a duplicate sample, a missing
+// vertex or an index beyond the sample count. The callers check the feature names and W first.
+struct GroupedSamples {
+  Eigen::MatrixXd features, values;
+};
+GroupedSamples groupSamplesByPoint(const ForceDataset& data, const std::string& where);
+
 // Groups the samples of a planar dataset by feature point (points in order of first appearance).
 // Requires the features (phi, beta) and W = 3 (F_x, F_z, tau_y), and at every point one sample of
 // each vertex 0..K−1, K = the largest index + 1. Throws InputError "`where`: ..." naming the
@@ -86,9 +110,14 @@ PlanarPoints augment(const PlanarPoints& points, const AugmentationSettings& set
 
 // What the fit reports divide errors by: at each point the largest |value| entry, "the largest
 // wrench at that point"; at zero-wrench points (above the surface) the largest of all the values.
-Eigen::VectorXd pointScales(const PlanarPoints& points);
-// P×K: for each point and vertex, the largest |error| over (F_x, F_z, τ_y) divided by the point's
-// scale (by 1 where the scale is 0, i.e. all the data is zero). error is P×3K, in the layout of values.
-Eigen::MatrixXd relativeVertexErrors(const Eigen::MatrixXd& error, const Eigen::VectorXd& scale);
+Eigen::VectorXd pointScales(const Eigen::MatrixXd& values);
+inline Eigen::VectorXd pointScales(const PlanarPoints& points) { return pointScales(points.values); }
+// P×K: for each point and vertex, the largest |error| over the vertex's W entries ((F_x, F_z, τ_y)
+// planar) divided by the point's scale (by 1 where the scale is 0, i.e. all the data is zero).
+// error is P×WK, in the layout of values.
+Eigen::MatrixXd relativeVertexErrors(const Eigen::MatrixXd& error, const Eigen::VectorXd& scale, int wrench_size = 3);
+
+// The published heights scaled by the depth span of points whose depths are `phi` (see below).
+std::vector<double> scaledPublishedHeights(const Eigen::Ref<const Eigen::VectorXd>& phi);
 
 }  // namespace nmdp

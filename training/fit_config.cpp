@@ -36,6 +36,7 @@ const nlohmann::json& section(const nlohmann::json& config, const std::string& k
 FitConfig parseFitConfig(const nlohmann::json& config, const ConfigContext& ctx) {
   requireKnownKeys(config, keysOf(fitSectionKeys("")), ctx);
   FitConfig out;
+  out.where = ctx.where;
 
   const ConfigContext actx = child(ctx, "augmentation");
   const nlohmann::json& a = section(config, "augmentation", ctx);
@@ -150,10 +151,16 @@ ResolvedFitConfig resolveFitConfig(const FitConfig& config, const ForceDataset& 
                             " from " + text(c.augmentation.above_angles.front()) + " to " +
                             text(c.augmentation.above_angles.back()) + " (the data has more distinct angles)");
 
+  resolveCutoff(viewOf(grouped), *c.augmentation.above_heights, c, out.from_data);
+  return out;
+}
+
+void resolveCutoff(const PointSetView& grouped, const std::vector<double>& above_heights, FitConfig& c,
+                   std::vector<std::string>& from_data) {
   // The highest point that carries a wrench, and the lowest zero-wrench point above it: of the
   // data, of the augmentation, or the surface itself (a foot point above it touches nothing).
   std::optional<double> loaded_top;
-  for (int i = 0; i < grouped.pointCount(); ++i)
+  for (Eigen::Index i = 0; i < grouped.pointCount(); ++i)
     if (grouped.values.row(i).cwiseAbs().maxCoeff() > 0.0)
       loaded_top = std::max(loaded_top.value_or(grouped.features(i, 0)), grouped.features(i, 0));
   const double top = loaded_top.value_or(0.0);
@@ -161,24 +168,23 @@ ResolvedFitConfig resolveFitConfig(const FitConfig& config, const ForceDataset& 
   const auto consider = [&](double phi) {
     if (phi > top && (!lowest_zero || phi < *lowest_zero)) lowest_zero = phi;
   };
-  for (int i = 0; i < grouped.pointCount(); ++i) consider(grouped.features(i, 0));
-  for (double h : *c.augmentation.above_heights) consider(h);
+  for (Eigen::Index i = 0; i < grouped.pointCount(); ++i) consider(grouped.features(i, 0));
+  for (double h : above_heights) consider(h);
   consider(0.0);
-  const double first_height = scaledPublishedHeights(grouped).front();
+  const double first_height = scaledPublishedHeights(grouped.features.col(0)).front();
   if (!c.cutoff) {
     c.cutoff = lowest_zero.value_or(top + first_height);
-    out.from_data.push_back("geometry.cutoff = " + text(*c.cutoff) +
+    from_data.push_back("geometry.cutoff = " + text(*c.cutoff) +
                             (lowest_zero ? " (the lowest zero-wrench point above the data's wrenches)"
                                          : " (the data's top plus the first published height, scaled)"));
   }
   if (!c.cutoff_width) {
     c.cutoff_width = *c.cutoff > top ? *c.cutoff - top : first_height;
-    out.from_data.push_back("geometry.cutoff_width = " + text(*c.cutoff_width) +
+    from_data.push_back("geometry.cutoff_width = " + text(*c.cutoff_width) +
                             (*c.cutoff > top ? " (from the highest point with a wrench, phi " + text(top) +
                                                    " m, to the cut-off)"
                                              : " (the first published height, scaled)"));
   }
-  return out;
 }
 
 PlanarGeometry fitGeometry(const FitConfig& resolved) {
@@ -192,6 +198,9 @@ PlanarGeometry fitGeometry(const FitConfig& resolved) {
 RbfFitOutcome fitRbfToDataset(const ForceDataset& data, const FitConfig& config, const std::string& data_name) {
   const auto start = std::chrono::steady_clock::now();
   const PlanarPoints grouped = groupPlanarSamples(data, data_name);  // shape errors first
+  if (config.rbf.scaling_given == 3)
+    throw InputError(config.where + ".rbf.scaling: three numbers are the scaling of 3-D data (phi, beta, gamma); " +
+                     data_name + " is planar (phi, beta): give [s_phi, s_beta]");
   const ResolvedFitConfig resolved = resolveFitConfig(config, data, grouped, data_name);
   RbfFitOutcome out;
   out.geometry = fitGeometry(resolved.config);

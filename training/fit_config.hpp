@@ -24,6 +24,7 @@ struct FitConfig {
   std::optional<double> torque_centre;  // none: the dataset's
   std::optional<double> cutoff;         // none: decided from the data (resolveFitConfig)
   std::optional<double> cutoff_width;   // none: decided from the data
+  std::string where = "the fit configuration";  // what parseFitConfig read, for messages about its keys
 };
 
 // The declarations of the "rbf" and "mlp" sections (training/fit_config_fields.cpp).
@@ -68,6 +69,11 @@ struct ResolvedFitConfig {
 ResolvedFitConfig resolveFitConfig(const FitConfig& config, const ForceDataset& data, const PlanarPoints& grouped,
                                    const std::string& data_name);
 
+// The cut-off (geometry.cutoff, cutoff_width) of `c` where not given, decided as above from the
+// grouped points (planar or spatial) and the zero-wrench heights; what was decided is appended.
+void resolveCutoff(const PointSetView& grouped, const std::vector<double>& above_heights, FitConfig& c,
+                   std::vector<std::string>& from_data);
+
 // The geometry stored in the model file, of a resolved configuration.
 PlanarGeometry fitGeometry(const FitConfig& resolved);
 
@@ -80,6 +86,8 @@ struct RbfFitOutcome {
   RbfFitRecord record;
   PlanarGeometry geometry;
 };
+// Throws InputError "`config.where`.rbf.scaling: ..." when the configuration gives the scaling of 3-D
+// data (three numbers): the planar fit needs [s_phi, s_beta].
 RbfFitOutcome fitRbfToDataset(const ForceDataset& data, const FitConfig& config, const std::string& data_name);
 
 }  // namespace nmdp

@@ -16,16 +16,25 @@ namespace {
 using json = nlohmann::json;
 
 Field<RbfFitSettings> scalingField() {
-  Field<RbfFitSettings> f = Fields<RbfFitSettings>::make("scaling", "[number, number]", "(0, inf)", "",
-                                     "S = diag(s_phi, s_beta) of the kernel's distance");
-  f.value = [](const RbfFitSettings& s) { return json::array({s.spec.scaling[0], s.spec.scaling[1]}); };
+  Field<RbfFitSettings> f = Fields<RbfFitSettings>::make("scaling", "[number, number(, number)]", "(0, inf)", "",
+                                     "S = diag(s_phi, s_beta) of the kernel's distance; diag(s_phi, s_beta, s_gamma) for 3-D data");
+  f.value = [](const RbfFitSettings& s) {
+    if (s.scaling_given == 3) return json::array({s.spatial_scaling[0], s.spatial_scaling[1], s.spatial_scaling[2]});
+    return json::array({s.spec.scaling[0], s.spec.scaling[1]});
+  };
   f.read = [](const json& object, RbfFitSettings& s, const KeyPath& w) {
     if (!object.contains("scaling")) return;
     const json& v = object.at("scaling");
     const std::vector<double> scaling = readNumbers(object, "scaling", {}, ConfigContext{w.str(), ""});
-    if (scaling.size() != 2 || !(scaling[0] > 0.0) || !(scaling[1] > 0.0))
-      (w / "scaling").fail("expected two positive numbers [s_phi, s_beta], got " + jsonForMessage(v));
-    s.spec.scaling = Eigen::Vector2d(scaling[0], scaling[1]);
+    const bool positive = std::all_of(scaling.begin(), scaling.end(), [](double x) { return x > 0.0; });
+    if ((scaling.size() != 2 && scaling.size() != 3) || !positive)
+      (w / "scaling").fail("expected two positive numbers [s_phi, s_beta] (planar data) or three [s_phi, s_beta, "
+                           "s_gamma] (3-D data), got " + jsonForMessage(v));
+    s.scaling_given = static_cast<int>(scaling.size());
+    if (scaling.size() == 2)
+      s.spec.scaling = Eigen::Vector2d(scaling[0], scaling[1]);
+    else
+      s.spatial_scaling = Eigen::Vector3d(scaling[0], scaling[1], scaling[2]);
   };
   return f;
 }

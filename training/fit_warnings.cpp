@@ -87,7 +87,7 @@ std::string formatAboveSurface(const AboveSurfaceCheck& check) {
          " of the largest below the surface (" + number(check.largest_below) + ")\n";
 }
 
-double measuredRms(const Eigen::MatrixXd& relative, const PlanarPoints& points) {
+double measuredRms(const Eigen::MatrixXd& relative, const PointSetView& points) {
   double sum2 = 0.0;
   long n = 0;
   for (int i = 0; i < points.pointCount(); ++i) {
@@ -99,7 +99,7 @@ double measuredRms(const Eigen::MatrixXd& relative, const PlanarPoints& points) 
   return n > 0 ? std::sqrt(sum2 / static_cast<double>(n)) : 0.0;
 }
 
-std::optional<FitWarning> looWarning(const Eigen::MatrixXd& loo_relative, const PlanarPoints& points) {
+std::optional<FitWarning> looWarning(const Eigen::MatrixXd& loo_relative, const PointSetView& points) {
   const double rms = measuredRms(loo_relative, points);
   if (!(rms > kLooWarnRms)) return std::nullopt;
   Eigen::Index worst_point = 0, worst_vertex = 0;
@@ -115,8 +115,8 @@ std::optional<FitWarning> looWarning(const Eigen::MatrixXd& loo_relative, const 
   FitWarning w;
   w.what = "the leave-one-point-out error is large: RMS " + percent(rms) +
            " over the measured points with a wrench (warned above " + percent(kLooWarnRms) + "), worst " +
-           percent(worst) + " at (phi " + number(points.features(worst_point, 0)) + ", beta " +
-           number(points.features(worst_point, 1)) + "), vertex " + std::to_string(worst_vertex);
+           percent(worst) + " at " + featurePointText(points.features, worst_point, 4) + ", vertex " +
+           std::to_string(worst_vertex);
   w.suggestion =
       "add samples between the measured ones, where the error is worst first; until then trust the model between "
       "samples only to about this much";

@@ -59,8 +59,16 @@ std::string formatAboveSurface(const AboveSurfaceCheck& check);
 constexpr double kLooWarnRms = 0.25;
 // `relative`: P×K relative errors (RbfFit::loo_relative); the RMS over the measured points with a
 // non-zero wrench of each one's largest entry (0 without such points).
-double measuredRms(const Eigen::MatrixXd& relative, const PlanarPoints& points);
-std::optional<FitWarning> looWarning(const Eigen::MatrixXd& loo_relative, const PlanarPoints& points);
+// Planar or spatial points (the warning names the point by all its features).
+double measuredRms(const Eigen::MatrixXd& relative, const PointSetView& points);
+inline double measuredRms(const Eigen::MatrixXd& relative, const PlanarPoints& points) {
+  return measuredRms(relative, viewOf(points));
+}
+std::optional<FitWarning> looWarning(const Eigen::MatrixXd& loo_relative, const PointSetView& points);
+inline std::optional<FitWarning> looWarning(const Eigen::MatrixXd& loo_relative, const PlanarPoints& points) {
+  return looWarning(loo_relative, viewOf(points));
+}
+
 
 // ---- MLP: training ---------------------------------------------------------------------------------
 // The fewest validation points that carry a wrench for the validation loss to mean something: with

@@ -1,7 +1,9 @@
-// RBF fitting of planar wrench spaces (DESIGN.md §7.2, §9): one RBF interpolant per wrench
-// component, all vertices at once, centred at the fit points,
+// RBF fitting of wrench spaces (DESIGN.md §7.2, §9), planar (features (φ, β), vertices (F_x, F_z,
+// τ_y)) and spatial (features (φ, β, γ), vertices (τ_x, τ_y, τ_z, F_x, F_y, F_z); training/
+// spatial_rbf_fit.hpp), by one code path: one RBF interpolant per wrench component, all vertices at
+// once, centred at the fit points,
 //
-//     [Φ + λI  P] [W]   [Y]        Φ_ik = κ(‖S(f_i − f_k)‖),  P = [1 φ β] (the optional linear tail),
+//     [Φ + λI  P] [W]   [Y]        Φ_ik = κ(‖S(f_i − f_k)‖),  P = [1 φ β (γ)] (the optional linear tail),
 //     [Pᵀ      0] [a] = [0],       λ ≥ 0 the ridge,
 //
 // solved with an LU factorization (Eigen). The kernels and the scaling S are those of
@@ -25,11 +27,38 @@
 
 namespace nmdp {
 
+namespace h5 {
+class File;
+}
+
 struct RbfFitSettings {
   RbfKernelSpec spec;       // kernel, scaling S, epsilon
   double ridge = 0.0;       // λ ≥ 0, added to the kernel matrix's diagonal
-  bool polynomial = false;  // the linear tail a + b φ + c β
+  bool polynomial = false;  // the linear tail a + b φ + c β (+ d γ)
+  // rbf.scaling as given in FIT.json: 0 not given (spec.scaling is the planar default), 2 numbers
+  // (in spec.scaling) or 3 (in spatial_scaling, for spatial data only).
+  int scaling_given = 0;
+  // s_φ, s_β, s_γ: by default 1 cm of depth weighs as 0.2 rad of tilt.
+  Eigen::Vector3d spatial_scaling = Eigen::Vector3d(20.0, 1.0, 1.0);
 };
+
+// The solution of the system above for any points (PointSetView: 2 or 3 features, W = 3 or 6
+// entries per vertex), with Rippa's leave-one-point-out error; the planar and spatial fits share it.
+struct RbfSolution {
+  Eigen::MatrixXd weights;       // P×WK
+  Eigen::MatrixXd polynomial;    // empty or (1 + F)×WK: rows = coefficients of 1, φ, β (, γ)
+  Eigen::MatrixXd loo_error;     // P×WK
+  Eigen::MatrixXd loo_relative;  // P×K, relativeVertexErrors
+  Eigen::VectorXd point_scale;   // P, pointScales
+  double rcond = 0.0;
+};
+// Throws as fitRbf. `scaling` has F entries.
+RbfSolution solveRbfSystem(const PointSetView& points, RbfKernel kernel, const Eigen::VectorXd& scaling,
+                           double epsilon, double ridge, bool polynomial, const std::string& where);
+
+// The part of the fit report shared by planar and spatial fits: from the "points:" line to the
+// leave-one-point-out table, the worst points and the RMS line (see formatRbfFitReport).
+std::string formatRbfLooReport(const PointSetView& points, const RbfSolution& fit, double seconds);
 
 struct RbfFit {
   RbfParameters parameters;      // centres = the fit points
@@ -79,5 +108,20 @@ std::string formatRbfFitReport(const RbfFitRecord& record);
 //   /fit/loo_relative   P×K float64, relative to the largest wrench at the point
 // Atomically (path + ".partial", renamed on success).
 void saveRbfFit(const std::string& path, const RbfFitRecord& record, const PlanarGeometry& geometry);
+
+// The /fit group above (without above_surface_share) into an open file: the planar and the spatial
+// fit files share it (P×F points, P×WK values and errors).
+struct RbfFitGroup {
+  const std::string& data;
+  const nlohmann::ordered_json& settings;
+  const std::string& report;
+  double seconds;
+  const std::vector<std::string>& from_data;
+  const std::vector<FitWarning>& warnings;
+  PointSetView points;
+  const Eigen::MatrixXd& loo_error;
+  const Eigen::MatrixXd& loo_relative;
+};
+void writeRbfFitGroup(h5::File& file, const RbfFitGroup& group);
 
 }  // namespace nmdp

@@ -14,6 +14,7 @@
 #include "training/fit_config.hpp"
 #include "training/fit_data.hpp"
 #include "training/force_dataset.hpp"
+#include "training/spatial_rbf_fit.hpp"
 #include "training/mlp/contact_model_fit.hpp"
 
 namespace nmdp::app {
@@ -29,7 +30,9 @@ const char* const kFitHelp =
     "largest wrench at each point; then the model's largest wrench above the surface and warnings, each\n"
     "with a suggestion (a large leave-one-out error, a model that pushes above the surface, an MLP that\n"
     "stopped at its epoch limit or validated on too few points). MLP training shows a progress line on\n"
-    "stderr when it is a terminal.\n\n"
+    "stderr when it is a terminal. 3-D data (features phi, beta, gamma; 6 wrench columns tau_x, tau_y,\n"
+    "tau_z, F_x, F_y, F_z) gives the 3-D RBF (contact_models/spatial_rbf_function.hpp): rbf.scaling takes\n"
+    "three numbers, and the planar keys augmentation.mirror and geometry.torque_centre are refused.\n\n"
     "  --data DATA         a force dataset (HDF5, training/force_dataset.hpp), a folder in the CSV layout\n"
     "                      of granular/sand_samples (features.csv, wrench_samples.csv, scalars.txt) or\n"
     "                      a .csv file in such a folder (e.g. its wrench_samples.csv)\n"
@@ -152,6 +155,13 @@ int runFit(const Args& args) {
     fit_config = parseFitConfig(json, ctx);
   }
   const ForceDataset dataset = loadFitData(data);
+  if (model == "rbf" && isSpatialDataset(dataset)) {  // features (phi, beta, gamma): the 3-D RBF
+    const SpatialRbfFitOutcome fit = fitSpatialRbfToDataset(dataset, fit_config, data);
+    saveSpatialRbfFit(out, fit);
+    if (!quiet) std::cout << formatSpatialRbfFitReport(fit.record);
+    std::cout << "wrote " << out << "\n";
+    return 0;
+  }
   TrainingLine line(stderr, model == "mlp" && ProgressBar::shouldShow(stderr, quiet));
   const ContactModelFit fit =
       fitContactModel(dataset, model, fit_config, data, [&](const MlpEpochStatus& st) { line.update(st); });
