@@ -16,6 +16,7 @@
 #include "common/named_enum.hpp"
 #include "common/text.hpp"
 #include "contact_models/file_attributes.hpp"
+#include "contact_models/rbf_basis.hpp"
 
 namespace nmdp {
 
@@ -24,54 +25,9 @@ namespace {
 constexpr int kFormatVersion = 1;
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
 
-// The product basisᵀ · coefficients. Eigen's GEMM repacks the constant coefficients on every call
-// (a third of its time at this size); here they are stored packed (row-major, padded to whole
-// packets) and streamed by a 4-row × 3-packet register block: 12 accumulators, 3 loads and 4
-// broadcasts per centre, within the 16 SIMD registers of AVX2 (or SSE).
-using Packet = Eigen::internal::packet_traits<double>::type;
-constexpr int kPacket = Eigen::internal::packet_traits<double>::size;
-constexpr int kRowBlock = 4;
-constexpr int kColBlock = 3;
+constexpr int kRowBlock = kRbfRowBlock;
 
-Eigen::Index roundUp(Eigen::Index n, Eigen::Index m) { return (n + m - 1) / m * m; }
-
-// out(0..3, 0..CB·P) = Σ_i basis(i, 0..3)ᵀ coef(i, 0..CB·P), i = 0..M−1 in order. basis is
-// column-major with leading dimension M; coef and out are row-major.
-template <int CB>
-void productBlock(const double* coef, Eigen::Index coef_stride, const double* basis, Eigen::Index M, double* out,
-                  Eigen::Index out_stride) {
-  using namespace Eigen::internal;
-  Packet acc[kRowBlock][CB];
-  for (int r = 0; r < kRowBlock; ++r)
-    for (int k = 0; k < CB; ++k) acc[r][k] = pset1<Packet>(0.0);
-  for (Eigen::Index i = 0; i < M; ++i) {
-    Packet c[CB];
-    for (int k = 0; k < CB; ++k) c[k] = ploadu<Packet>(coef + i * coef_stride + k * kPacket);
-    for (int r = 0; r < kRowBlock; ++r) {
-      const Packet s = pset1<Packet>(basis[r * M + i]);
-      for (int k = 0; k < CB; ++k) acc[r][k] = pmadd(s, c[k], acc[r][k]);
-    }
-  }
-  for (int r = 0; r < kRowBlock; ++r)
-    for (int k = 0; k < CB; ++k) pstoreu(out + r * out_stride + k * kPacket, acc[r][k]);
-}
-
-// out(0..R, :) = basis(:, 0..R)ᵀ coef, R a multiple of kRowBlock.
-void product(const PlanarRows& coef, const Eigen::MatrixXd& basis, Eigen::Index R, PlanarRows& out) {
-  const Eigen::Index M = coef.rows(), C = coef.cols(), packets = C / kPacket;
-  for (Eigen::Index c0 = 0; c0 < packets; c0 += kColBlock) {
-    const double* cp = coef.data() + c0 * kPacket;
-    for (Eigen::Index r0 = 0; r0 < R; r0 += kRowBlock) {
-      const double* bp = basis.data() + r0 * M;
-      double* op = out.data() + r0 * C + c0 * kPacket;
-      switch (std::min<Eigen::Index>(kColBlock, packets - c0)) {
-        case 3: productBlock<3>(cp, C, bp, M, op, C); break;
-        case 2: productBlock<2>(cp, C, bp, M, op, C); break;
-        default: productBlock<1>(cp, C, bp, M, op, C); break;
-      }
-    }
-  }
-}
+Eigen::Index roundUp(Eigen::Index n, Eigen::Index m) { return rbfRoundUp(n, m); }
 
 }  // namespace
 
@@ -141,26 +97,7 @@ PlanarGeometry publishedRbfGeometry() {
 }
 
 std::string rbfMagnitudeProblem(const RbfParameters& p) {
-  const auto number = [](double x) {
-    std::ostringstream out;
-    out << x;
-    return out.str();
-  };
-  for (Eigen::Index i = 0; i < p.centres.rows(); ++i)
-    for (int c = 0; c < 2; ++c)
-      if (!(std::abs(p.centres(i, c)) <= limits::kMaxRbfCentreCoordinate))
-        return "centre " + std::to_string(i + 1) + " has |" + (c == 0 ? "phi" : "beta") + "| = " + number(std::abs(p.centres(i, c))) +
-               " > " + number(limits::kMaxRbfCentreCoordinate);
-  const auto largest = [](const Eigen::MatrixXd& m) { return m.size() == 0 ? 0.0 : m.cwiseAbs().maxCoeff(); };
-  if (!(largest(p.weights) <= limits::kMaxRbfWeight))
-    return "a weight of magnitude " + number(largest(p.weights)) + " > " + number(limits::kMaxRbfWeight);
-  if (!(largest(p.polynomial) <= limits::kMaxRbfWeight))
-    return "a polynomial coefficient of magnitude " + number(largest(p.polynomial)) + " > " + number(limits::kMaxRbfWeight);
-  if (!(p.spec.scaling.maxCoeff() <= limits::kMaxRbfScale))
-    return "a feature scaling of " + number(p.spec.scaling.maxCoeff()) + " > " + number(limits::kMaxRbfScale);
-  if (!(p.spec.epsilon <= limits::kMaxRbfScale))
-    return "epsilon = " + number(p.spec.epsilon) + " > " + number(limits::kMaxRbfScale);
-  return "";
+  return rbfMagnitudeProblem(p.centres, {"phi", "beta"}, p.weights, p.polynomial, p.spec.scaling, p.spec.epsilon);
 }
 
 RbfFunction::RbfFunction(RbfParameters parameters) : params_(std::move(parameters)) {
@@ -183,7 +120,7 @@ RbfFunction::RbfFunction(RbfParameters parameters) : params_(std::move(parameter
   scaled_centres_ = p.centres * p.spec.scaling.asDiagonal();
   const Eigen::Index tail = p.polynomial.size() != 0 ? 3 : 0;
   const Eigen::Index C = p.weights.cols();
-  coefficients_.setZero(N + tail, roundUp(C, kPacket));
+  coefficients_.setZero(N + tail, rbfPackedColumns(C));
   coefficients_.topLeftCorner(N, C) = p.weights;
   if (tail) coefficients_.bottomLeftCorner(3, C) = p.polynomial;
 }
@@ -204,7 +141,6 @@ void RbfFunction::computeBasis(const Eigen::MatrixX2d& features, Eigen::Index co
   const Eigen::Index N = scaled_centres_.rows();
   const Eigen::Index M = coefficients_.rows();
   const double sphi = params_.spec.scaling[0], sbeta = params_.spec.scaling[1];
-  const double e2 = params_.spec.epsilon * params_.spec.epsilon;
 
   // The basis is sized by the batch only (not by the count or whether derivatives are asked for),
   // so alternating calls do not reallocate.
@@ -226,42 +162,7 @@ void RbfFunction::computeBasis(const Eigen::MatrixX2d& features, Eigen::Index co
     dphi_ = sphi * features(b, 0) - cphi;  // S(f_b − c_i)
     dbeta_ = sbeta * features(b, 1) - cbeta;
     r2_ = dphi_.square() + dbeta_.square();
-    // κ and g = κ'(ρ)/ρ elementwise (the same formulas as rbfKernel()).
-    switch (params_.spec.kernel) {
-      case RbfKernel::ThinPlate:
-        // Eigen 3.4.0's select() is not vectorized: mask the centre afterwards instead.
-        g_ = r2_.log();  // −inf at a centre
-        kappa = 0.5 * r2_ * g_;
-        g_ += 1.0;
-        if (!(r2_.minCoeff() > 0.0))
-          for (Eigen::Index i = 0; i < N; ++i)
-            if (!(r2_[i] > 0.0)) kappa[i] = g_[i] = 0.0;
-        break;
-      case RbfKernel::Gaussian:
-        kappa = (-e2 * r2_).exp();
-        g_ = (-2.0 * e2) * kappa;
-        break;
-      case RbfKernel::Multiquadric:
-        kappa = (1.0 + e2 * r2_).sqrt();
-        g_ = e2 / kappa;
-        break;
-      case RbfKernel::InverseMultiquadric:
-        kappa = (1.0 + e2 * r2_).rsqrt();
-        g_ = -e2 * kappa.cube();
-        break;
-      case RbfKernel::Cubic:
-        g_ = r2_.sqrt();
-        kappa = r2_ * g_;
-        g_ *= 3.0;
-        break;
-      case RbfKernel::Linear:
-        kappa = r2_.sqrt();
-        g_ = kappa.inverse();
-        if (!(r2_.minCoeff() > 0.0))
-          for (Eigen::Index i = 0; i < N; ++i)
-            if (!(r2_[i] > 0.0)) g_[i] = 0.0;  // zero subgradient at a centre
-        break;
-    }
+    rbfKernelColumn(params_.spec.kernel, params_.spec.epsilon, r2_, kappa.data(), g_);
     if (M > N) basis_.col(r).tail<3>() << 1.0, features(b, 0), features(b, 1);
     if (!derivatives) continue;
     Eigen::Map<Eigen::ArrayXd>(basis_.col(r + 1).data(), N) = g_ * sphi * dphi_;  // ∂κ/∂f = g(ρ) S (S(f − c))
@@ -281,7 +182,7 @@ bool RbfFunction::evaluateRows(const Eigen::MatrixX2d& features, Eigen::Index co
   computeBasis(features, count, derivatives);
   const Eigen::Index capacity = roundUp(3 * features.rows(), kRowBlock);
   if (rows.rows() != capacity || rows.cols() != coefficients_.cols()) rows.resize(capacity, coefficients_.cols());
-  product(coefficients_, basis_, roundUp((derivatives ? 3 : 1) * count, kRowBlock), rows);
+  rbfProduct(coefficients_, basis_, roundUp((derivatives ? 3 : 1) * count, kRowBlock), rows);
   return true;
 }
 

@@ -6,6 +6,7 @@
 
 #include "contact_models/planar_model_config.hpp"
 #include "contact_models/rbf_function.hpp"
+#include "contact_models/spatial_rbf_function.hpp"
 #include "common/input_error.hpp"
 #include "common/json_text.hpp"
 #include "common/input_file.hpp"
@@ -96,6 +97,39 @@ RbfModelFile readHdf5(const nlohmann::json& params, const std::string& path, con
   }
 }
 
+// Whether the HDF5 model file holds a 3-D model (three columns of centres).
+bool isSpatial(const std::string& path, const ConfigContext& ctx) {
+  try {
+    return isSpatialRbfFile(path);
+  } catch (const InputError& e) {
+    failAtKey(ctx, "file", e.what());
+  }
+}
+
+// A 3-D model file: its kernel and features are fixed by the file; only the cut-off may be given.
+std::unique_ptr<ContactModel> makeSpatialRbfModel(const nlohmann::json& params, const std::string& path,
+                                                  const ConfigContext& ctx) {
+  for (const char* key : {"weights_file", "kernel", "scaling", "epsilon", "torque_centre"})
+    if (params.contains(key))
+      failAtKey(ctx, key,
+                std::string("does not apply to the 3-D RBF model file ") + path +
+                    " (its kernel and scaling are stored with its weights and its torque is about the foot point); "
+                    "remove the key: a 3-D model takes only file, cutoff and cutoff_width");
+  SpatialRbfModelFile model;
+  try {
+    model = readSpatialRbfHdf5(path);
+  } catch (const InputError& e) {
+    failAtKey(ctx, "file", e.what());
+  }
+  PlanarGeometry cut = planarGeometryOf(model.geometry);
+  readGeometryOverrides(params, ctx, cut);
+  model.geometry.cutoff = cut.cutoff;
+  model.geometry.cutoff_width = cut.cutoff_width;
+  auto function = std::make_shared<const SpatialRbfFunction>(std::move(model.parameters));
+  nlohmann::json source = {{"file", path}, {"format", "hdf5"}};
+  return std::make_unique<SpatialWrenchModel>(std::move(function), model.geometry, "rbf", std::move(source));
+}
+
 }  // namespace
 
 std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const ConfigContext& ctx) {
@@ -104,6 +138,7 @@ std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const C
                                             "published inputs.txt and weights.txt",
                                             ctx);
   const bool published = isPublishedFormat(params, path, ctx);
+  if (!published && isSpatial(path, ctx)) return makeSpatialRbfModel(params, path, ctx);
   RbfParameters parameters;
   PlanarGeometry geometry;
   // The keys that identify the function, with the values used (PlanarWrenchModel::configuration).

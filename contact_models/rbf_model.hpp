@@ -1,5 +1,7 @@
 // The "rbf" contact model: an RbfFunction (rbf_function.hpp) wrapped in a PlanarWrenchModel
-// (planar_wrench_model.hpp), built from a JSON object such as
+// (planar_wrench_model.hpp), or for an HDF5 file whose centres have three columns a 3-D
+// SpatialRbfFunction (spatial_rbf_function.hpp) wrapped in a SpatialWrenchModel, built from a JSON
+// object such as
 //
 //     {"type": "rbf", "file": "sand.h5"}
 //     {"type": "rbf", "file": "granular/robosimian_sand_rbf", "cutoff_width": 0.01}
@@ -21,6 +23,8 @@
 // The model's configuration() holds every key with the value in use: file (resolved), format
 // ("published" or "hdf5"), for the published format weights_file, kernel, scaling and epsilon,
 // and torque_centre, cutoff, cutoff_width.
+// A 3-D model file takes file, format, cutoff and cutoff_width only (the other keys are refused with
+// a message); its configuration() holds file, format ("hdf5"), cutoff and cutoff_width.
 // Every error is an InputError naming the configuration key (ctx.where) and the file.
 #pragma once
 #include <memory>
@@ -36,7 +40,8 @@ namespace nmdp {
 // Every key makeRbfModel accepts besides "type".
 extern const std::vector<std::string> kRbfParameters;
 
-// Returns a PlanarWrenchModel of type name "rbf". `params` may hold "type" (it must then be "rbf").
+// Returns a PlanarWrenchModel (or, for a 3-D file, a SpatialWrenchModel) of type name "rbf".
+// `params` may hold "type" (it must then be "rbf").
 std::unique_ptr<ContactModel> makeRbfModel(const nlohmann::json& params, const ConfigContext& ctx);
 
 }  // namespace nmdp

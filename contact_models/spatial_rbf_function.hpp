@@ -51,13 +51,27 @@ class SpatialRbfFunction : public SpatialFeatureFunction {
   std::string describe() const override;
   void evaluate(const Eigen::MatrixX3d& features, Eigen::MatrixXd& W,
                 std::array<Eigen::MatrixXd, 3>* dW) const override;
+  bool evaluateRows(const Eigen::MatrixX3d& features, Eigen::Index count, bool derivatives,
+                    SpatialRows& rows) const override;
 
   const SpatialRbfParameters& parameters() const { return params_; }
 
  private:
+  // Fills basis_ for the first `count` rows of `features`, sized for all of them (see evaluateRows).
+  void computeBasis(const Eigen::MatrixX3d& features, Eigen::Index count, bool derivatives) const;
+
   SpatialRbfParameters params_;
-  // The implementation adds its precomputed data and scratch here.
+  Eigen::MatrixX3d scaled_centres_;  // N×3: S c_i
+  SpatialRows coefficients_;         // (N [+4])×C padded, row-major: weights stacked over the polynomial
+  // Scratch: scaled differences, ρ², κ, g for one point (N); the basis, (N [+4])×R padded, column r =
+  // output row r of evaluateRows; the product for evaluate(). Sized on first use, then reused.
+  mutable Eigen::ArrayXd d0_, d1_, d2_, r2_, kappa_, g_;
+  mutable Eigen::MatrixXd basis_;
+  mutable SpatialRows product_;
 };
+
+// "" when every number of `p` lies within the limits of common/limits.hpp (as rbfMagnitudeProblem).
+std::string spatialRbfMagnitudeProblem(const SpatialRbfParameters& p);
 
 struct SpatialRbfModelFile {
   SpatialRbfParameters parameters;

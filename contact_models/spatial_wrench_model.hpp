@@ -34,6 +34,9 @@ constexpr int kSpatialWrenchWidth = 6;
 // Features of a spatial model: (φ, β, γ).
 constexpr int kSpatialFeatureCount = 3;
 
+// Row-major spatial results (see SpatialFeatureFunction::evaluateRows).
+using SpatialRows = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+
 // Six-dimensional wrenches of K vertices for a batch of B feature points. Row b of W holds vertex
 // j's (τ_x, τ_y, τ_z, F_x, F_y, F_z) in columns 6j .. 6j + 5 (frame R, torque about the foot point).
 class SpatialFeatureFunction {
@@ -46,6 +49,16 @@ class SpatialFeatureFunction {
   // each B×6K. Resizes its outputs; allocates nothing once they have the size of a previous call.
   virtual void evaluate(const Eigen::MatrixX3d& features, Eigen::MatrixXd& W,
                         std::array<Eigen::MatrixXd, 3>* dW) const = 0;
+  // Optional fast path for SpatialWrenchModel, which needs each point's results contiguous:
+  // evaluates the first `count` rows of `features` (B×3, count ≤ B) into `rows`, whose row r = 4b + v
+  // (derivatives) or r = b (values only), v = 0 for W, 1, 2, 3 for ∂W/∂φ, ∂W/∂β, ∂W/∂γ, begins with
+  // the 6K entries of row b of evaluate()'s output, i.e. a 6×K column-major matrix. `rows` may be
+  // larger than needed and is sized for all B points, so a varying count never reallocates.
+  // Returns false when not implemented (the caller then uses evaluate()).
+  virtual bool evaluateRows(const Eigen::MatrixX3d& /*features*/, Eigen::Index /*count*/, bool /*derivatives*/,
+                            SpatialRows& /*rows*/) const {
+    return false;
+  }
 };
 
 // The spatial models' cut-off: the planar models' PlanarGeometry with torque_centre unused (the
@@ -54,6 +67,20 @@ struct SpatialGeometry {
   double cutoff = 0.0;          // m: zero wrench when φ ≥ cutoff
   double cutoff_width = 0.005;  // m: blending band below the cut-off
 };
+
+// The planar geometry with the same cut-off and no torque centre (the torque is about the foot point).
+PlanarGeometry planarGeometryOf(const SpatialGeometry& g);
+
+// Features of one contact and their derivatives along the six ξ directions: the planar frame
+// (planar_wrench_model.hpp: n, x, y, a, φ, β, arm = P − c) and the lateral lean γ = asin(a·y).
+struct SpatialFrame {
+  PlanarFrame planar;
+  double gamma = 0;
+  Eigen::Matrix<double, 6, 1> dgamma;
+};
+
+void computeSpatialFrame(const ContactFrame& frame, const Terrain& terrain, const SpatialGeometry& geometry,
+                         bool with_derivatives, SpatialFrame& out);
 
 class SpatialWrenchModel : public ContactModel {
  public:
@@ -78,8 +105,21 @@ class SpatialWrenchModel : public ContactModel {
   SpatialGeometry geometry_;
   std::string type_;
   nlohmann::json source_;
+  // The frames and cut-off of every contact, and the feature function's rows (W, and with
+  // derivatives ∂W/∂φ, ∂W/∂β, ∂W/∂γ) of those below the cut-off into rows_ (row_[b] says where).
+  void evaluateRows(const std::vector<ContactFrame>& frames, const Terrain& terrain, bool with_derivatives) const;
+  // V (and dV) of contact b from its rows.
+  void assembleWrenches(Eigen::Index b, bool with_derivatives, ContactWrenches& o) const;
+
   // Scratch for one evaluation (a model instance serves one simulation at a time), sized by the
-  // number of contacts only. The implementation may add members here.
+  // number of contacts only.
+  mutable std::vector<SpatialFrame> frames_;
+  mutable std::vector<double> sigma_, dsigma_;  // cut-off step and its derivative per contact
+  mutable std::vector<Eigen::Index> row_;       // the contact's point in the feature batch, −1 if above the cut-off
+  mutable Eigen::MatrixX3d features_;
+  mutable Eigen::MatrixXd W_;                     // for functions without evaluateRows()
+  mutable std::array<Eigen::MatrixXd, 3> dW_;
+  mutable SpatialRows rows_;
 };
 
 }  // namespace nmdp
