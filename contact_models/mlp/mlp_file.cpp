@@ -16,12 +16,19 @@ namespace nmdp {
 
 namespace {
 
-constexpr double kFormatVersion = 4.0;          // the newest version this program reads and writes
+constexpr double kFormatVersion = 5.0;          // the newest version this program reads and writes
+constexpr double kFormatVersionSpatial = 5.0;   // written for a spatial MLP (older programs refuse it)
 constexpr double kFormatVersionSoftDepth = 4.0;   // written with output_envelope "soft_depth"
 constexpr double kFormatVersionAnchors = 3.0;     // written with zero anchors (and no soft_depth)
 constexpr double kFormatVersionEnvelope = 2.0;    // written with output_envelope "depth" (no anchors)
 constexpr double kFormatVersionNoEnvelope = 1.0;  // written when output_envelope is "none" (no anchors)
 constexpr const char* kUnits = "phi: m, beta: rad; F_x, F_z: N; tau_y: N m";
+constexpr const char* kSpatialUnits = "phi: m, beta: rad, gamma: rad; tau: N m about the foot point; F: N";
+
+std::vector<std::string> featureNames(MlpWrench wrench) {
+  if (wrench == MlpWrench::Spatial) return {"phi", "beta", "gamma"};
+  return {"phi", "beta"};
+}
 
 std::string layerName(size_t i) { return "/mlp/layer_" + std::to_string(i); }
 
@@ -42,9 +49,17 @@ void readKind(const h5::File& file, const FileAttributes& mlp, MlpParameters& p)
   mlp.checkFormatVersion(static_cast<int>(kFormatVersion));
   if (file.hasAttribute("/mlp", "wrench")) {
     const std::string wrench = file.readStringAttribute("/mlp", "wrench");
-    if (wrench != "planar")
-      mlp.fail("attribute 'wrench' of '/mlp' is '" + wrench + "': this program reads planar models only (\"planar\", "
-               "3 outputs (F_x, F_z, tau_y) per vertex)");
+    if (!assignIfNamed(kMlpWrenches, wrench, &p.wrench))
+      mlp.fail("attribute 'wrench' of '/mlp' is '" + wrench + "'; valid values: \"planar\" (3 outputs (F_x, F_z, "
+               "tau_y) per vertex of (phi, beta)) or \"spatial\" (6 outputs (tau_x, tau_y, tau_z, F_x, F_y, F_z) per "
+               "vertex of (phi, beta, gamma))");
+  }
+  if (file.hasAttribute("/mlp", "inputs")) {
+    const int F = p.featureCount();
+    if (mlp.integer("inputs", 2, 3) != F)
+      mlp.fail("attribute 'inputs' of '/mlp' must be " + std::to_string(F) + " for wrench \"" +
+               nameOf(kMlpWrenches, p.wrench) + "\" (the features " +
+               (F == 3 ? "phi, beta, gamma" : "phi, beta") + ")");
   }
   const std::string activation = file.readStringAttribute("/mlp", "activation");
   if (const std::string problem = mlpActivationProblem(activation); !problem.empty())
@@ -74,25 +89,27 @@ Eigen::VectorXd readVector(const h5::File& file, const FileAttributes& mlp, cons
   return Eigen::VectorXd(Eigen::Map<const Eigen::VectorXd>(m.data(), n));
 }
 
-// The layers 0 .. layer_count − 1, each checked against the previous one and the output size 3K.
+// The layers 0 .. layer_count − 1, each checked against the previous one and the output size wK.
 void readLayers(const h5::File& file, const FileAttributes& mlp, int layer_count, int K, MlpParameters& p) {
-  Eigen::Index in = 2, parameters = 0;
+  const int w = p.wrenchWidth();
+  Eigen::Index in = p.featureCount(), parameters = 0;
   for (int i = 0; i < layer_count; ++i) {
-    const std::string w = layerName(i) + "/weight", b = layerName(i) + "/bias";
+    const std::string wn = layerName(i) + "/weight", b = layerName(i) + "/bias";
     MlpLayer l;
-    l.weight = file.readMatrix(w, kMaxParameters - parameters);
-    if (i + 1 == layer_count && l.weight.rows() != 3 * K)
-      mlp.fail("dataset '" + w + "' is " + shapeText(l.weight) + ": the output layer must have 3K = " +
-               std::to_string(3 * K) + " rows (attribute 'vertices' = " + std::to_string(K) + ")");
+    l.weight = file.readMatrix(wn, kMaxParameters - parameters);
+    if (i + 1 == layer_count && l.weight.rows() != w * K)
+      mlp.fail("dataset '" + wn + "' is " + shapeText(l.weight) + ": the output layer must have " + std::to_string(w) +
+               "K = " + std::to_string(w * K) + " rows (attribute 'vertices' = " + std::to_string(K) + ")");
     if (l.weight.cols() != in) {
-      mlp.fail("dataset '" + w + "' is " + shapeText(l.weight) + ", expected (outputs) x " + std::to_string(in) + ": " +
-               (i == 0 ? std::string("the input is (phi, beta)")
+      mlp.fail("dataset '" + wn + "' is " + shapeText(l.weight) + ", expected (outputs) x " + std::to_string(in) + ": " +
+               (i == 0 ? std::string(p.wrench == MlpWrench::Spatial ? "the input is (phi, beta, gamma)"
+                                                                    : "the input is (phi, beta)")
                        : "the previous layer " + layerName(i - 1) + " has " + std::to_string(in) + " outputs"));
     }
-    l.bias = readVector(file, mlp, b, l.weight.rows(), "one per row of '" + w + "'");
+    l.bias = readVector(file, mlp, b, l.weight.rows(), "one per row of '" + wn + "'");
     parameters += l.weight.size() + l.bias.size();
     if (parameters > kMaxParameters)
-      mlp.fail("the layers up to '" + w + "' have " + std::to_string(parameters) + " weights and biases, more than the " +
+      mlp.fail("the layers up to '" + wn + "' have " + std::to_string(parameters) + " weights and biases, more than the " +
                std::to_string(kMaxParameters) + " a contact-model MLP may have");
     p.layers.push_back(std::move(l));
     in = p.layers.back().weight.rows();
@@ -106,14 +123,19 @@ void readLayers(const h5::File& file, const FileAttributes& mlp, int layer_count
 void readFeaturesAndAnchors(const h5::File& file, const FileAttributes& mlp, MlpParameters& p) {
   if (file.exists("/mlp/feature_names")) {
     const std::vector<std::string> names = file.readStrings("/mlp/feature_names");
-    if (names != std::vector<std::string>{"phi", "beta"})
-      mlp.fail("dataset '/mlp/feature_names' must be [\"phi\", \"beta\"]: the MLP contact model takes the signed "
-               "distance and the sagittal leg angle");
+    if (names != featureNames(p.wrench))
+      mlp.fail(p.wrench == MlpWrench::Spatial
+                   ? "dataset '/mlp/feature_names' must be [\"phi\", \"beta\", \"gamma\"]: a spatial MLP takes the "
+                     "signed distance and the leg's sagittal and lateral lean"
+                   : "dataset '/mlp/feature_names' must be [\"phi\", \"beta\"]: the MLP contact model takes the signed "
+                     "distance and the sagittal leg angle");
   }
   if (!file.exists("/mlp/anchors")) return;
-  const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors", 2 * limits::kMaxRbfCentres);
-  if (a.cols() != 2 || a.rows() < 1)
-    mlp.fail("dataset '/mlp/anchors' is " + shapeText(a) + ", expected (anchors) x 2: the points (phi, beta)");
+  const int F = p.featureCount();
+  const Eigen::MatrixXd a = file.readMatrix("/mlp/anchors", F * limits::kMaxRbfCentres);
+  if (a.cols() != F || a.rows() < 1)
+    mlp.fail("dataset '/mlp/anchors' is " + shapeText(a) + ", expected (anchors) x " + std::to_string(F) +
+             ": the points " + (F == 3 ? "(phi, beta, gamma)" : "(phi, beta)"));
   if (a.rows() > limits::kMaxRbfCentres)
     mlp.fail("dataset '/mlp/anchors' has " + std::to_string(a.rows()) + " anchors, more than the " +
              std::to_string(limits::kMaxRbfCentres) + " a model may have");
@@ -133,17 +155,23 @@ MlpModelFile loadMlpModel(const std::string& path) {
   readKind(file, mlp, p);
   const int layer_count = mlp.integer("layers", 1, kMaxLayers);
   const int K = mlp.integer("vertices", 1, limits::kMaxVertices);
-  out.geometry.torque_centre = mlp.finite("torque_centre");
+  const bool spatial = p.wrench == MlpWrench::Spatial;
+  if (spatial && file.hasAttribute("/mlp", "torque_centre"))
+    mlp.fail("attribute 'torque_centre' of '/mlp' belongs to planar models: a spatial MLP's torque is about the foot "
+             "point");
+  out.geometry.torque_centre = spatial ? 0.0 : mlp.finite("torque_centre");
   out.geometry.cutoff = mlp.finite("cutoff");
   out.geometry.cutoff_width = mlp.finite("cutoff_width");
   if (!(out.geometry.cutoff_width > 0.0)) mlp.fail("attribute 'cutoff_width' of '/mlp' must be positive");
   if (const std::string problem = planarGeometryProblem(out.geometry); !problem.empty())
     mlp.fail("attribute " + problem + " (of '/mlp')");
-  p.input_mean = readVector(file, mlp, "/mlp/input_mean", 2, "mean of phi, beta");
-  p.input_std = readVector(file, mlp, "/mlp/input_std", 2, "standard deviation of phi, beta");
-  const std::string per_vertex = "3 per vertex, attribute 'vertices' = " + std::to_string(K);
-  p.output_scale = readVector(file, mlp, "/mlp/output_scale", 3 * K, per_vertex);
-  p.output_offset = readVector(file, mlp, "/mlp/output_offset", 3 * K, per_vertex);
+  const int F = p.featureCount(), w = p.wrenchWidth();
+  const std::string features = spatial ? "phi, beta, gamma" : "phi, beta";
+  p.input_mean = readVector(file, mlp, "/mlp/input_mean", F, "mean of " + features);
+  p.input_std = readVector(file, mlp, "/mlp/input_std", F, "standard deviation of " + features);
+  const std::string per_vertex = std::to_string(w) + " per vertex, attribute 'vertices' = " + std::to_string(K);
+  p.output_scale = readVector(file, mlp, "/mlp/output_scale", w * K, per_vertex);
+  p.output_offset = readVector(file, mlp, "/mlp/output_offset", w * K, per_vertex);
   readLayers(file, mlp, layer_count, K, p);
   readFeaturesAndAnchors(file, mlp, p);
   if (const std::string problem = mlpParameterProblem(p); !problem.empty()) mlp.fail(problem);
@@ -161,35 +189,36 @@ void checkSavable(const std::string& where, const MlpParameters& p, const Planar
 }
 }  // namespace
 
-void saveMlpModel(const std::string& path, const MlpParameters& p, const PlanarGeometry& geometry) {
-  checkSavable("saveMlpModel(" + path + ")", p, geometry);  // before any file is created
-  h5::File file = h5::File::createAtomic(path);
-  writeMlpModel(file, p, geometry);
-  file.commit();
-}
+namespace {
 
-void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry& geometry) {
+// Both kinds: a planar file has a torque centre, a spatial one none.
+void writeAnyMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry& geometry) {
   checkSavable("writeMlpModel(" + file.path() + ")", p, geometry);
+  const bool spatial = p.wrench == MlpWrench::Spatial;
   file.writeStringAttribute("/", "nmdp_model", "mlp");
   file.createGroup("/mlp");
   const bool envelope = p.output_envelope != MlpOutputEnvelope::None;
   const bool anchored = p.anchors.rows() > 0;
   file.writeDoubleAttribute("/mlp", "format_version",
-                            p.output_envelope == MlpOutputEnvelope::SoftDepth ? kFormatVersionSoftDepth
+                            spatial                                             ? kFormatVersionSpatial
+                            : p.output_envelope == MlpOutputEnvelope::SoftDepth ? kFormatVersionSoftDepth
                             : anchored                                          ? kFormatVersionAnchors
                             : envelope                                          ? kFormatVersionEnvelope
                                                                                 : kFormatVersionNoEnvelope);
   file.writeStringAttribute("/mlp", "activation", mlpActivationName(p.activation));
   file.writeDoubleAttribute("/mlp", "layers", static_cast<double>(p.layers.size()));
   file.writeDoubleAttribute("/mlp", "vertices", p.vertexCount());
-  file.writeStringAttribute("/mlp", "wrench", "planar");
-  file.writeDoubleAttribute("/mlp", "torque_centre", geometry.torque_centre);
+  file.writeStringAttribute("/mlp", "wrench", nameOf(kMlpWrenches, p.wrench));
+  if (spatial)
+    file.writeDoubleAttribute("/mlp", "inputs", p.featureCount());
+  else
+    file.writeDoubleAttribute("/mlp", "torque_centre", geometry.torque_centre);
   file.writeDoubleAttribute("/mlp", "cutoff", geometry.cutoff);
   file.writeDoubleAttribute("/mlp", "cutoff_width", geometry.cutoff_width);
-  file.writeStringAttribute("/mlp", "units", kUnits);
+  file.writeStringAttribute("/mlp", "units", spatial ? kSpatialUnits : kUnits);
   if (envelope) file.writeStringAttribute("/mlp", "output_envelope", mlpOutputEnvelopeName(p.output_envelope));
   if (p.output_envelope == MlpOutputEnvelope::SoftDepth) file.writeDoubleAttribute("/mlp", "envelope_width", p.envelope_width);
-  file.writeStrings("/mlp/feature_names", {"phi", "beta"});
+  file.writeStrings("/mlp/feature_names", featureNames(p.wrench));
   file.writeVector("/mlp/input_mean", p.input_mean);
   file.writeVector("/mlp/input_std", p.input_std);
   file.writeVector("/mlp/output_scale", p.output_scale);
@@ -203,6 +232,42 @@ void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry&
     file.writeMatrix("/mlp/anchors", p.anchors);
     file.writeDoubleAttribute("/mlp", "anchor_radius", p.anchor_radius);
   }
+}
+
+PlanarGeometry asPlanar(const SpatialGeometry& g) { return PlanarGeometry{0.0, g.cutoff, g.cutoff_width}; }
+
+void requireWrench(const std::string& where, const MlpParameters& p, MlpWrench wrench) {
+  if (p.wrench != wrench)
+    throw std::invalid_argument(where + ": a " + nameOf(kMlpWrenches, p.wrench) + " MLP given with a " +
+                                nameOf(kMlpWrenches, wrench) + " geometry");
+}
+
+}  // namespace
+
+void saveMlpModel(const std::string& path, const MlpParameters& p, const PlanarGeometry& geometry) {
+  requireWrench("saveMlpModel(" + path + ")", p, MlpWrench::Planar);
+  checkSavable("saveMlpModel(" + path + ")", p, geometry);  // before any file is created
+  h5::File file = h5::File::createAtomic(path);
+  writeMlpModel(file, p, geometry);
+  file.commit();
+}
+
+void writeMlpModel(h5::File& file, const MlpParameters& p, const PlanarGeometry& geometry) {
+  requireWrench("writeMlpModel(" + file.path() + ")", p, MlpWrench::Planar);
+  writeAnyMlpModel(file, p, geometry);
+}
+
+void saveMlpModel(const std::string& path, const MlpParameters& p, const SpatialGeometry& geometry) {
+  requireWrench("saveMlpModel(" + path + ")", p, MlpWrench::Spatial);
+  checkSavable("saveMlpModel(" + path + ")", p, asPlanar(geometry));  // before any file is created
+  h5::File file = h5::File::createAtomic(path);
+  writeMlpModel(file, p, geometry);
+  file.commit();
+}
+
+void writeMlpModel(h5::File& file, const MlpParameters& p, const SpatialGeometry& geometry) {
+  requireWrench("writeMlpModel(" + file.path() + ")", p, MlpWrench::Spatial);
+  writeAnyMlpModel(file, p, asPlanar(geometry));
 }
 
 void saveMlpModel(const std::string& path, const MlpFunction& function, const PlanarGeometry& geometry) {

@@ -24,7 +24,6 @@ namespace {
 constexpr double kSoftplusThreshold = 36.0;  // log1p(exp(-36)) < half an ulp of 36: the switch is invisible
 
 using RowMatrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-using RowMatrixX3 = Eigen::Matrix<double, Eigen::Dynamic, 3, Eigen::RowMajor>;
 
 std::string layerName(size_t i) { return "/mlp/layer_" + std::to_string(i); }
 
@@ -53,16 +52,21 @@ constexpr EnumName<MlpJacobian> kJacobians[] = {{MlpJacobian::ForwardMode, "forw
                                                 {MlpJacobian::Tangents, "tangents"}};
 
 // The normalized input of R rows (the batch repeated), augmented with a column of ones (layer 0
-// holds its bias as a weight row).
-RowMatrixX3 augmentedInput(const Eigen::MatrixX2d& features, const Eigen::RowVector2d& mean,
-                           const Eigen::RowVector2d& inv_std, Eigen::Index R) {
-  const Eigen::Index B = features.rows();
-  RowMatrixX3 x(R, 3);
+// holds its bias as a weight row): R × (F + 1).
+RowMatrix augmentedInput(const Eigen::Ref<const Eigen::MatrixXd>& features, const Eigen::RowVectorXd& mean,
+                         const Eigen::RowVectorXd& inv_std, Eigen::Index R) {
+  const Eigen::Index B = features.rows(), F = features.cols();
+  RowMatrix x(R, F + 1);
   for (Eigen::Index r = 0; r < R; ++r) {
-    x.block<1, 2>(r, 0) = (features.row(r % B) - mean).cwiseProduct(inv_std);
-    x(r, 2) = 1.0;
+    x.row(r).head(F) = (features.row(r % B) - mean).cwiseProduct(inv_std);
+    x(r, F) = 1.0;
   }
   return x;
+}
+
+// "(phi, beta)" or "(phi, beta, gamma)": the network's input, for messages.
+std::string inputText(const MlpParameters& p) {
+  return p.wrench == MlpWrench::Spatial ? "(phi, beta, gamma)" : "(phi, beta)";
 }
 
 }  // namespace
@@ -91,25 +95,25 @@ const char* mlpJacobianName(MlpJacobian jacobian) { return nameOf(kJacobians, ja
 bool parseMlpJacobian(const std::string& name, MlpJacobian* jacobian) { return assignIfNamed(kJacobians, name, jacobian); }
 
 int MlpParameters::vertexCount() const {
-  return layers.empty() ? 0 : static_cast<int>(layers.back().weight.rows() / 3);
+  return layers.empty() ? 0 : static_cast<int>(layers.back().weight.rows() / wrenchWidth());
 }
 
 std::vector<int> MlpParameters::sizes() const {
-  std::vector<int> out{2};
+  std::vector<int> out{featureCount()};
   for (const MlpLayer& l : layers) out.push_back(static_cast<int>(l.weight.rows()));
   return out;
 }
 
 namespace {
 
-// The layers: shapes chained from the 2 inputs, finite values. Sets *outputs to the last layer's rows.
+// The layers: shapes chained from the F inputs, finite values. Sets *outputs to the last layer's rows.
 std::string layerProblem(const MlpParameters& p, Eigen::Index* outputs) {
-  Eigen::Index in = 2;
+  Eigen::Index in = p.featureCount();
   for (size_t i = 0; i < p.layers.size(); ++i) {
     const MlpLayer& l = p.layers[i];
     const std::string w = layerName(i) + "/weight", b = layerName(i) + "/bias";
     if (l.weight.rows() < 1 || l.weight.cols() != in) {
-      const std::string why = i == 0 ? "the input is (phi, beta)"
+      const std::string why = i == 0 ? "the input is " + inputText(p)
                                      : "the previous layer " + layerName(i - 1) + " has " + std::to_string(in) + " outputs";
       return "dataset '" + w + "' is " + shapeText(l.weight) + ", expected (outputs) x " + std::to_string(in) + ": " + why;
     }
@@ -134,7 +138,10 @@ std::string anchorProblem(const MlpParameters& p) {
   if (p.output_envelope == MlpOutputEnvelope::Depth)
     return "zero anchors ('/mlp/anchors') and output_envelope \"" + std::string(mlpOutputEnvelopeName(p.output_envelope)) +
            "\" cannot be combined";
-  const Eigen::Array2d inv_std = p.input_std.cwiseInverse().array();
+  if (p.anchors.cols() != p.featureCount())
+    return "dataset '/mlp/anchors' is " + shapeText(p.anchors) + ", expected (anchors) x " +
+           std::to_string(p.featureCount()) + ": the points " + inputText(p);
+  const Eigen::ArrayXd inv_std = p.input_std.cwiseInverse().array();
   for (Eigen::Index a = 0; a < p.anchors.rows(); ++a)
     for (Eigen::Index c = a + 1; c < p.anchors.rows(); ++c) {
       const double d = ((p.anchors.row(a) - p.anchors.row(c)).transpose().array() * inv_std).matrix().norm();
@@ -151,7 +158,7 @@ std::string anchorProblem(const MlpParameters& p) {
 // ≤ |x| + log 2, SiLU ≤ |x|; their slopes ≤ 1.1).
 std::string overflowProblem(const MlpParameters& p) {
   double value = 0.0, slope = 0.0;
-  for (int c = 0; c < 2; ++c) {
+  for (int c = 0; c < p.featureCount(); ++c) {
     value = std::max(value, (limits::kMaxModelFeature + std::abs(p.input_mean[c])) / p.input_std[c]);
     slope = std::max(slope, 1.0 / p.input_std[c]);
   }
@@ -178,15 +185,23 @@ std::string overflowProblem(const MlpParameters& p) {
 
 std::string mlpParameterProblem(const MlpParameters& p) {
   if (p.layers.empty()) return "group '/mlp' has no layers: attribute 'layers' must be at least 1";
-  Eigen::Index in = 2;
+  const int F = p.featureCount();
+  for (const auto& [name, v] : {std::pair<const char*, const Eigen::VectorXd*>{"/mlp/input_mean", &p.input_mean},
+                                {"/mlp/input_std", &p.input_std}})
+    if (v->size() != F)
+      return "dataset '" + std::string(name) + "' has " + std::to_string(v->size()) + " values, expected " +
+             std::to_string(F) + " (one per feature " + inputText(p) + ")";
+  Eigen::Index in = F;
   if (std::string problem = layerProblem(p, &in); !problem.empty()) return problem;
   const std::string last = layerName(p.layers.size() - 1) + "/weight";
-  if (in % 3 != 0)
-    return "dataset '" + last + "' has " + std::to_string(in) +
-           " rows: the output layer must give 3 values (F_x, F_z, tau_y) per vertex";
+  if (in % p.wrenchWidth() != 0)
+    return "dataset '" + last + "' has " + std::to_string(in) + " rows: the output layer must give " +
+           (p.wrench == MlpWrench::Spatial ? "6 values (tau_x, tau_y, tau_z, F_x, F_y, F_z)"
+                                           : "3 values (F_x, F_z, tau_y)") +
+           " per vertex";
   if (!p.input_mean.allFinite()) return "dataset '/mlp/input_mean' has a non-finite value";
   if (!p.input_std.allFinite() || !(p.input_std.minCoeff() > 0.0))
-    return "dataset '/mlp/input_std' must hold two positive finite numbers";
+    return "dataset '/mlp/input_std' must hold " + std::to_string(F) + " positive finite numbers";
   for (const auto& [name, v] : {std::pair<const char*, const Eigen::VectorXd*>{"/mlp/output_scale", &p.output_scale},
                                 {"/mlp/output_offset", &p.output_offset}}) {
     if (v->size() != in)
@@ -202,31 +217,51 @@ std::string mlpParameterProblem(const MlpParameters& p) {
   return overflowProblem(p);
 }
 
-void mlpAnchorBumps(const MlpParameters& p, const Eigen::MatrixX2d& features, Eigen::MatrixXd& b,
-                    Eigen::MatrixXd* db_dphi, Eigen::MatrixXd* db_dbeta) {
+namespace {
+
+// mlpAnchorBumps for F features, in fixed-size arithmetic (the same operations for every F).
+template <int F>
+void anchorBumps(const MlpParameters& p, const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::MatrixXd& b,
+                 const std::array<Eigen::MatrixXd*, 3>& db) {
+  using Point = Eigen::Array<double, F, 1>;
   const Eigen::Index B = features.rows(), A = p.anchors.rows();
-  b.setZero(B, A);
-  if (db_dphi) db_dphi->setZero(B, A);
-  if (db_dbeta) db_dbeta->setZero(B, A);
-  if (A == 0) return;
-  const Eigen::Array2d inv_std = p.input_std.cwiseInverse().array();
+  const Point inv_std = p.input_std.head<F>().cwiseInverse().array();
   const double R = p.anchor_radius;
   for (Eigen::Index i = 0; i < B; ++i)
     for (Eigen::Index a = 0; a < A; ++a) {
-      const Eigen::Array2d d = (features.row(i) - p.anchors.row(a)).transpose().array() * inv_std;  // x̂ − x̂_a
+      const Point d =
+          (features.row(i).template head<F>() - p.anchors.row(a).template head<F>()).transpose().array() * inv_std;  // x̂ − x̂_a
       const double r = std::sqrt(d.square().sum()) / R;
       if (!(r < 1.0)) continue;
       const double u = 1.0 - r, u2 = u * u, u5 = u2 * u2 * u;
       b(i, a) = u5 * u * (35.0 * r * r + 18.0 * r + 3.0) / 3.0;
       // dψ/dr / r = −(56/3)(5r + 1)(1 − r)⁵, and dr/dx̂ = (x̂ − x̂_a) / (r R²): no 0/0 at the centre.
       const double g = -(56.0 / 3.0) * (5.0 * r + 1.0) * u5 / (R * R);
-      if (db_dphi) (*db_dphi)(i, a) = g * d[0] * inv_std[0];
-      if (db_dbeta) (*db_dbeta)(i, a) = g * d[1] * inv_std[1];
+      for (int c = 0; c < F; ++c)
+        if (db[c]) (*db[c])(i, a) = g * d[c] * inv_std[c];
     }
 }
 
+}  // namespace
+
+void mlpAnchorBumps(const MlpParameters& p, const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::MatrixXd& b,
+                    const std::array<Eigen::MatrixXd*, 3>& db) {
+  const Eigen::Index B = features.rows(), A = p.anchors.rows();
+  const int F = p.featureCount();
+  if (features.cols() != F || p.anchors.cols() != F)
+    throw std::invalid_argument("mlpAnchorBumps: features and anchors need " + std::to_string(F) + " columns");
+  b.setZero(B, A);
+  for (int c = 0; c < F; ++c)
+    if (db[c]) db[c]->setZero(B, A);
+  if (A == 0) return;
+  if (F == 3)
+    anchorBumps<3>(p, features, b, db);
+  else
+    anchorBumps<2>(p, features, b, db);
+}
+
 MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, MlpActivation activation,
-                                  std::uint32_t seed) {
+                                  std::uint32_t seed, MlpWrench wrench) {
   if (hidden_layers < 0 || width < 1 || vertices < 1)
     throw std::invalid_argument("randomMlpParameters: needs hidden_layers >= 0, width >= 1, vertices >= 1");
   std::mt19937 rng(seed);
@@ -235,10 +270,15 @@ MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, Ml
     return bound * (2.0 * u - 1.0);
   };
   MlpParameters p;
+  p.wrench = wrench;
   p.activation = activation;
-  int in = 2;
+  p.input_mean = Eigen::VectorXd::Zero(p.featureCount());
+  p.input_std = Eigen::VectorXd::Ones(p.featureCount());
+  p.anchors.resize(0, p.featureCount());
+  int in = p.featureCount();
+  const int outputs = p.wrenchWidth() * vertices;
   for (int i = 0; i <= hidden_layers; ++i) {
-    const int out = i < hidden_layers ? width : 3 * vertices;
+    const int out = i < hidden_layers ? width : outputs;
     const double bound = 1.0 / std::sqrt(static_cast<double>(in));
     MlpLayer l;
     l.weight.resize(out, in);
@@ -249,8 +289,8 @@ MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, Ml
     p.layers.push_back(std::move(l));
     in = out;
   }
-  p.output_scale = Eigen::VectorXd::Ones(3 * vertices);
-  p.output_offset = Eigen::VectorXd::Zero(3 * vertices);
+  p.output_scale = Eigen::VectorXd::Ones(outputs);
+  p.output_offset = Eigen::VectorXd::Zero(outputs);
   return p;
 }
 
@@ -258,7 +298,7 @@ MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, Ml
 
 // The layers as torch tensors, laid out for few ATen calls per layer (each call costs microseconds of
 // dispatch at these sizes, the arithmetic far less):
-//   * layer 0 reads the input augmented with a column of ones, (x̂_φ, x̂_β, 1), so its bias is the last
+//   * layer 0 reads the input augmented with a column of ones, (x̂_φ, x̂_β[, x̂_γ], 1), so its bias is the last
 //     row of weight_t[0] and the layer is one torch::mm;
 //   * middle layers are one torch::addmm (bias + h A_iᵀ);
 //   * the last layer is a torch::mm without its bias, which evaluate() adds in Eigen together with the
@@ -332,7 +372,7 @@ struct MlpFunction::Torch {
     return bias.defined() ? torch::addmm(bias, h, weight_t) : torch::mm(h, weight_t);
   }
 
-  // The network on the augmented input (R × 3), without the output bias. With dual_level ≥ 0 (inside a
+  // The network on the augmented input (R × (F + 1)), without the output bias. With dual_level ≥ 0 (inside a
   // forward-AD level, h a dual tensor) the parameters enter as dual tensors with (cached) zero
   // tangents. Without a tangent, libtorch 1.13's forward formulas (addmm: b_t + h_t A + h A_t) get a
   // ZeroTensor, whose additions run through the Meta device and a copy and whose products go through a
@@ -382,7 +422,7 @@ MlpFunction::MlpFunction(MlpParameters parameters, MlpJacobian jacobian)
     t->bias.push_back(std::move(b));
   }
   torch_ = std::move(t);
-  if (params_.anchors.rows() > 0) evaluateNetwork(params_.anchors, anchor_values_, nullptr, nullptr);
+  if (params_.anchors.rows() > 0) evaluateNetwork(params_.anchors, anchor_values_, {});
 }
 
 MlpFunction::~MlpFunction() = default;
@@ -393,6 +433,7 @@ std::string MlpFunction::describe() const {
   const std::vector<int> sizes = params_.sizes();
   for (size_t i = 0; i < sizes.size(); ++i) s << (i ? "-" : "") << sizes[i];
   s << " " << mlpActivationName(params_.activation);
+  if (params_.wrench == MlpWrench::Spatial) s << ", spatial (tau, F) wrenches of (phi, beta, gamma)";
   if (params_.output_envelope == MlpOutputEnvelope::Depth) s << ", W = (-phi) N depth envelope";
   if (params_.output_envelope == MlpOutputEnvelope::SoftDepth)
     s << ", W = w softplus(-phi/w) N soft depth envelope (w = " << params_.envelope_width << " m)";
@@ -404,60 +445,84 @@ std::string MlpFunction::describe() const {
 
 void MlpFunction::evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                            Eigen::MatrixXd* dW_dbeta) const {
-  evaluateNetwork(features, W, dW_dphi, dW_dbeta);
+  if (params_.wrench != MlpWrench::Planar)
+    throw std::logic_error("MlpFunction: a spatial MLP evaluated as a planar feature function");
+  evaluateAny(features, W, {dW_dphi, dW_dbeta, nullptr});
+}
+
+void MlpFunction::evaluate(const Eigen::MatrixX3d& features, Eigen::MatrixXd& W,
+                           std::array<Eigen::MatrixXd, 3>* dW) const {
+  if (params_.wrench != MlpWrench::Spatial)
+    throw std::logic_error("MlpFunction: a planar MLP evaluated as a spatial feature function");
+  std::array<Eigen::MatrixXd*, 3> d{};
+  if (dW) d = {&(*dW)[0], &(*dW)[1], &(*dW)[2]};
+  evaluateAny(features, W, d);
+}
+
+void MlpFunction::evaluateAny(const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::MatrixXd& W,
+                              std::array<Eigen::MatrixXd*, 3> dW) const {
+  const int F = params_.featureCount();
+  evaluateNetwork(features, W, dW);
   if (params_.anchors.rows() > 0 && features.rows() > 0) {
-    Eigen::MatrixXd b, db_dphi, db_dbeta;
-    mlpAnchorBumps(params_, features, b, dW_dphi ? &db_dphi : nullptr, dW_dbeta ? &db_dbeta : nullptr);
+    Eigen::MatrixXd b;
+    std::array<Eigen::MatrixXd, 3> db;
+    std::array<Eigen::MatrixXd*, 3> db_asked{};
+    for (int d = 0; d < F; ++d)
+      if (dW[d]) db_asked[d] = &db[d];
+    mlpAnchorBumps(params_, features, b, db_asked);
     W.noalias() -= b * anchor_values_;
-    if (dW_dphi) dW_dphi->noalias() -= db_dphi * anchor_values_;
-    if (dW_dbeta) dW_dbeta->noalias() -= db_dbeta * anchor_values_;
+    for (int d = 0; d < F; ++d)
+      if (dW[d]) dW[d]->noalias() -= db[d] * anchor_values_;
   }
   if (params_.output_envelope == MlpOutputEnvelope::Depth && features.rows() > 0) {
-    // W = (−φ) ⊙ N: dW/dφ = −N + (−φ) ⊙ dN/dφ, dW/dβ = (−φ) ⊙ dN/dβ (W still holds N here). Not the
-    // soft branch's loop with m' = −1: that one may contract m' N + m dN into an FMA, and files of
-    // this envelope keep their bits.
+    // W = (−φ) ⊙ N: dW/dφ = −N + (−φ) ⊙ dN/dφ, dW/df_d = (−φ) ⊙ dN/df_d for the angles (W still
+    // holds N here). Not the soft branch's loop with m' = −1: that one may contract m' N + m dN into
+    // an FMA, and files of this envelope keep their bits.
     const Eigen::ArrayXd depth = 0.0 - features.col(0).array();  // 0.0 − φ: +0 at the surface
-    if (dW_dphi) *dW_dphi = (dW_dphi->array().colwise() * depth - W.array()).matrix();
-    if (dW_dbeta) dW_dbeta->array().colwise() *= depth;
+    if (dW[0]) *dW[0] = (dW[0]->array().colwise() * depth - W.array()).matrix();
+    for (int d = 1; d < F; ++d)
+      if (dW[d]) dW[d]->array().colwise() *= depth;
     W.array().colwise() *= depth;
   } else if (params_.output_envelope == MlpOutputEnvelope::SoftDepth) {
-    // W = m(φ) ⊙ N: dW/dφ = m' N + m dN/dφ, dW/dβ = m dN/dβ (W still holds N, anchored, here: the
-    // anchors stay exact zeros).
+    // W = m(φ) ⊙ N: dW/dφ = m' N + m dN/dφ, dW/df_d = m dN/df_d for the angles (W still holds N,
+    // anchored, here: the anchors stay exact zeros).
     for (Eigen::Index i = 0; i < features.rows(); ++i) {
       double m, dm;
       mlpEnvelopeFactor(params_.output_envelope, params_.envelope_width, features(i, 0), &m, &dm);
-      if (dW_dphi) dW_dphi->row(i) = dW_dphi->row(i) * m + W.row(i) * dm;
-      if (dW_dbeta) dW_dbeta->row(i) *= m;
+      if (dW[0]) dW[0]->row(i) = dW[0]->row(i) * m + W.row(i) * dm;
+      for (int d = 1; d < F; ++d)
+        if (dW[d]) dW[d]->row(i) *= m;
       W.row(i) *= m;
     }
   }
 }
 
-void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
-                                  Eigen::MatrixXd* dW_dbeta) const {
-  // One direction is computed as both and the other dropped: the stacked batch then has the same
-  // shape (so the BLAS the same kernels) whichever derivatives are asked for, and dW/dφ alone is
-  // dW/dφ of the pair bit for bit. PlanarWrenchModel always asks for both.
-  Eigen::MatrixXd dropped;
-  if (dW_dphi && !dW_dbeta) dW_dbeta = &dropped;
-  if (dW_dbeta && !dW_dphi) dW_dphi = &dropped;
+void MlpFunction::evaluateNetwork(const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::MatrixXd& W,
+                                  std::array<Eigen::MatrixXd*, 3> outputs) const {
+  // Derivatives in some features are computed in all of them and the others dropped: the stacked
+  // batch then has the same shape (so the BLAS the same kernels) whichever derivatives are asked for,
+  // and dW/dφ alone is dW/dφ of the set bit for bit. The wrench models always ask for all.
+  const int F = params_.featureCount();
+  std::array<Eigen::MatrixXd, 3> dropped;
+  bool any = false;
+  for (int d = 0; d < F; ++d) any = any || outputs[d];
+  if (any)
+    for (int d = 0; d < F; ++d)
+      if (!outputs[d]) outputs[d] = &dropped[d];
   const Eigen::Index B = features.rows();
-  const Eigen::Index O = 3 * vertexCount();
+  const Eigen::Index O = static_cast<Eigen::Index>(params_.wrenchWidth()) * vertexCount();
   W.resize(B, O);
-  if (dW_dphi) dW_dphi->resize(B, O);
-  if (dW_dbeta) dW_dbeta->resize(B, O);
+  for (int d = 0; d < F; ++d)
+    if (outputs[d]) outputs[d]->resize(B, O);
   if (B == 0) return;
-  // The directions (0 = φ, 1 = β; none or both); the batch is stacked once per direction.
-  Eigen::MatrixXd* outputs[2] = {dW_dphi, dW_dbeta};
-  int directions[2], D = 0;
-  for (int d = 0; d < 2; ++d)
-    if (outputs[d]) directions[D++] = d;
+  // The batch is stacked once per feature when derivatives are asked for (D = F), else D = 0.
+  const int D = any ? F : 0;
   const Eigen::Index R = B * std::max(D, 1);
 
-  const Eigen::RowVector2d inv_std = params_.input_std.cwiseInverse().transpose();
-  RowMatrixX3 x = augmentedInput(features, params_.input_mean.transpose(), inv_std, R);
+  const Eigen::RowVectorXd inv_std = params_.input_std.cwiseInverse().transpose();
+  RowMatrix x = augmentedInput(features, params_.input_mean.transpose(), inv_std, R);
   const auto options = torch::TensorOptions().dtype(torch::kFloat64);
-  const torch::Tensor input = torch::from_blob(x.data(), {R, 3}, options);
+  const torch::Tensor input = torch::from_blob(x.data(), {R, F + 1}, options);
   const Torch& t = *torch_;
   const auto scale = params_.output_scale.transpose().array();
   const auto offset = params_.output_offset.transpose().array();
@@ -472,7 +537,7 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
   const auto storeTangents = [&](const torch::Tensor& tangent) {  // block k of R×O → dW/df_d
     const torch::Tensor c = tangent.contiguous();
     const Eigen::Map<const RowMatrix> T(c.data_ptr<double>(), R, O);
-    for (int k = 0; k < D; ++k) *outputs[directions[k]] = (T.middleRows(k * B, B).array().rowwise() * scale).matrix();
+    for (int k = 0; k < D; ++k) *outputs[k] = (T.middleRows(k * B, B).array().rowwise() * scale).matrix();
   };
 
   if (D == 0) {
@@ -481,11 +546,11 @@ void MlpFunction::evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::Matri
     return;
   }
 
-  // Seeds: block k carries e_d / std_d, so the tangents are derivatives with respect to the raw
+  // Seeds: block k carries e_k / std_k, so the tangents are derivatives with respect to the raw
   // features (the column of ones is constant).
-  RowMatrixX3 seed = RowMatrixX3::Zero(R, 3);
-  for (int k = 0; k < D; ++k) seed.block(k * B, directions[k], B, 1).setConstant(inv_std[directions[k]]);
-  const torch::Tensor seed_t = torch::from_blob(seed.data(), {R, 3}, options);
+  RowMatrix seed = RowMatrix::Zero(R, F + 1);
+  for (int k = 0; k < D; ++k) seed.block(k * B, k, B, 1).setConstant(inv_std[k]);
+  const torch::Tensor seed_t = torch::from_blob(seed.data(), {R, F + 1}, options);
 
   if (jacobian_ == MlpJacobian::Tangents) {
     const auto [values, tangents] = t.tangents(input, seed_t, B, D);

@@ -1,7 +1,14 @@
-// A small multilayer perceptron as a planar feature function (DESIGN.md §7.3): K planar wrenches
-// (F_x, F_z, τ_y) of the features f = (φ, β), evaluated with libtorch in double precision.
-// PlanarWrenchModel (planar_wrench_model.hpp) places the wrenches in the world; mlp_model.hpp builds
-// one from JSON. libtorch stays inside mlp_function.cpp: this header includes no torch header.
+// A small multilayer perceptron as a feature function (DESIGN.md §7.3), evaluated with libtorch in
+// double precision, of one of two kinds (MlpWrench, the file's attribute 'wrench'):
+//   * planar:  K planar wrenches (F_x, F_z, τ_y) of the features f = (φ, β), a FeatureWrenchFunction
+//              that PlanarWrenchModel (planar_wrench_model.hpp) places in the world;
+//   * spatial: K six-dimensional wrenches (τ_x, τ_y, τ_z, F_x, F_y, F_z) of f = (φ, β, γ), a
+//              SpatialFeatureFunction that SpatialWrenchModel (spatial_wrench_model.hpp) places.
+// Everything below is written for the planar kind; the spatial one is the same code with F = 3
+// inputs and w = 6 outputs per vertex instead of F = 2 and w = 3 (the network, the normalization,
+// the envelopes, which depend on φ only, the anchors, which are points of F features, and the three
+// Jacobian schemes, which stack the batch once per feature). mlp_model.hpp builds either from JSON.
+// libtorch stays inside mlp_function.cpp: this header includes no torch header.
 //
 // The function, for L hidden layers (L ≥ 0) of widths H_1..H_L and the affine layers i = 0..L:
 //
@@ -93,11 +100,18 @@
 //   /mlp                     group; attributes:
 //       format_version       1 (float64), 2 when output_envelope is "depth", 3 with zero anchors, 4 with
 //                            output_envelope "soft_depth" (files without any stay version 1, readable by
-//                            older programs); 1 to 4 are read
+//                            older programs), 5 for a spatial MLP; 1 to 5 are read
 //       activation           string: "tanh", "softplus" or "silu"
 //       layers               float64, integer L + 1 ≥ 1: the number of affine layers
 //       vertices             float64, integer K ≥ 1: the output has 3K entries
-//       wrench               string "planar": the output holds (F_x, F_z, τ_y) per vertex
+//       wrench               string "planar": the output holds (F_x, F_z, τ_y) per vertex; "spatial"
+//                            (format_version 5): (τ_x, τ_y, τ_z, F_x, F_y, F_z) per vertex in the frame
+//                            of spatial_wrench_model.hpp, the torque about the foot point, of the
+//                            features (φ, β, γ). Spatial files differ from the planar layout below
+//                            only in: inputs = 3 (attribute, float64), no torque_centre, units
+//                            "phi: m, beta: rad, gamma: rad; tau: N m about the foot point; F: N",
+//                            feature_names (phi, beta, gamma), input_mean/input_std/anchors with 3
+//                            entries or columns, output_scale/output_offset and the last layer 6K.
 //       torque_centre        float64, m up the leg from the foot point (PlanarGeometry)
 //       cutoff               float64, m: zero wrench for φ ≥ cutoff
 //       cutoff_width         float64 > 0, m: blending band below the cut-off
@@ -116,10 +130,12 @@
 //                            with the attribute anchor_radius of /mlp (R > 0, normalized input units)
 // Every value must be finite. A missing dataset or attribute, a wrong shape, a NaN or inf, an
 // unknown activation (ReLU included), an unknown output_envelope, a wrench kind other than "planar"
+// or "spatial"
 // or a newer format_version is an InputError naming the file and the dataset or attribute.
 #pragma once
 #include <Eigen/Dense>
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -128,6 +144,7 @@
 
 #include "contact_models/mlp/mlp_names.hpp"
 #include "contact_models/planar_wrench_model.hpp"
+#include "contact_models/spatial_wrench_model.hpp"
 
 namespace nmdp {
 
@@ -179,41 +196,46 @@ struct MlpLayer {
 
 // Everything that defines the function: what the file stores, what the trainer fits.
 struct MlpParameters {
+  MlpWrench wrench = MlpWrench::Planar;  // F = 2 inputs, w = 3 outputs per vertex; spatial: 3 and 6
   MlpActivation activation = MlpActivation::Tanh;
-  Eigen::Vector2d input_mean = Eigen::Vector2d::Zero();  // (φ, β)
-  Eigen::Vector2d input_std = Eigen::Vector2d::Ones();   // > 0
-  Eigen::VectorXd output_scale;                          // 3K
-  Eigen::VectorXd output_offset;                         // 3K
+  Eigen::VectorXd input_mean = Eigen::VectorXd::Zero(2);  // F: (φ, β) or (φ, β, γ)
+  Eigen::VectorXd input_std = Eigen::VectorXd::Ones(2);   // F, > 0
+  Eigen::VectorXd output_scale;                          // wK
+  Eigen::VectorXd output_offset;                         // wK
   std::vector<MlpLayer> layers;                          // L hidden layers, then the output layer
   MlpOutputEnvelope output_envelope = MlpOutputEnvelope::None;  // W = N, or W = m(φ) ⊙ N
   double envelope_width = 0.0;  // w of the SoftDepth envelope (m, > 0); unused by the others
-  Eigen::MatrixX2d anchors = Eigen::MatrixX2d(0, 2);  // zero anchors (φ, β); none by default
-  double anchor_radius = 0.0;                           // R of the anchors' bumps (normalized input units)
+  Eigen::MatrixXd anchors = Eigen::MatrixXd(0, 2);  // A × F zero anchors (φ, β[, γ]); none by default
+  double anchor_radius = 0.0;                         // R of the anchors' bumps (normalized input units)
 
+  int featureCount() const { return mlpFeatureCount(wrench); }  // F
+  int wrenchWidth() const { return mlpWrenchWidth(wrench); }    // w
   int vertexCount() const;        // K (0 when there are no layers)
-  std::vector<int> sizes() const;  // 2, H_1, ..., H_L, 3K
+  std::vector<int> sizes() const;  // F, H_1, ..., H_L, wK
 };
 
 // "" when `p` is consistent, else what is wrong, naming the dataset of the file format
 // (e.g. "dataset '/mlp/layer_1/weight' is 64 x 32, expected 64 x 64 (...)").
 std::string mlpParameterProblem(const MlpParameters& p);
 
-// The anchors' bumps b_a at the features (B × A; see "Zero anchors" above), and their derivatives
-// in φ and β when asked for. Zero columns when p has no anchors.
-void mlpAnchorBumps(const MlpParameters& p, const Eigen::MatrixX2d& features, Eigen::MatrixXd& b,
-                    Eigen::MatrixXd* db_dphi = nullptr, Eigen::MatrixXd* db_dbeta = nullptr);
+// The anchors' bumps b_a at the features (B × F; b: B × A; see "Zero anchors" above), and their
+// derivatives in feature d into *db[d] where db[d] is not null. Zero columns when p has no anchors.
+void mlpAnchorBumps(const MlpParameters& p, const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::MatrixXd& b,
+                    const std::array<Eigen::MatrixXd*, 3>& db = {});
 
 // A network with the torch default initialization (weights and biases uniform in ±1/√in), identity
 // normalization (mean 0, std 1, scale 1, offset 0). Deterministic for a seed on every platform
 // (std::mt19937 words mapped to [0, 1) by hand, no std::uniform_real_distribution).
 MlpParameters randomMlpParameters(int hidden_layers, int width, int vertices, MlpActivation activation,
-                                  std::uint32_t seed);
+                                  std::uint32_t seed, MlpWrench wrench = MlpWrench::Planar);
 
 enum class MlpJacobian { ForwardMode, DoubleBackward, Tangents };
 const char* mlpJacobianName(MlpJacobian jacobian);  // "forward-mode", "double-backward", "tangents"
 bool parseMlpJacobian(const std::string& name, MlpJacobian* jacobian);  // false when unknown
 
-class MlpFunction : public FeatureWrenchFunction {
+// Either kind behind the interface of its kind; the other interface's evaluate throws
+// std::logic_error (a planar MLP has no γ, a spatial one no planar wrench).
+class MlpFunction : public FeatureWrenchFunction, public SpatialFeatureFunction {
  public:
   // Throws std::invalid_argument when mlpParameterProblem(parameters) is not empty (the file loader
   // reports the same problems as InputError first). Calls torch::set_num_threads(1) (see above).
@@ -230,29 +252,36 @@ class MlpFunction : public FeatureWrenchFunction {
   // e.g. "MLP 2-64-64-78 tanh, 26 vertices, forward-mode autograd"; with the depth envelope
   // "MLP 2-64-64-78 tanh, W = (-phi) N depth envelope, 26 vertices, forward-mode autograd".
   std::string describe() const override;
-  // features: B×2 rows (φ, β); W, dW_dphi, dW_dbeta: B×3K (resized). One network pass per call.
+  // Planar: features B×2 rows (φ, β); W, dW_dphi, dW_dbeta: B×3K (resized). One network pass per call.
   void evaluate(const Eigen::MatrixX2d& features, Eigen::MatrixXd& W, Eigen::MatrixXd* dW_dphi,
                 Eigen::MatrixXd* dW_dbeta) const override;
+  // Spatial: features B×3 rows (φ, β, γ); W and (*dW)[d] = ∂W/∂f_d: B×6K (resized).
+  void evaluate(const Eigen::MatrixX3d& features, Eigen::MatrixXd& W, std::array<Eigen::MatrixXd, 3>* dW) const override;
+  MlpWrench wrench() const { return params_.wrench; }
 
   const MlpParameters& parameters() const { return params_; }
   const std::vector<MlpLayer>& layers() const { return params_.layers; }
   MlpJacobian jacobian() const { return jacobian_; }
 
  private:
+  // Either kind: W and ∂W/∂f_d into *dW[d] (d < F) where not null.
+  void evaluateAny(const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::MatrixXd& W,
+                   std::array<Eigen::MatrixXd*, 3> dW) const;
   // N and its derivatives (the network without the output envelope), by the jacobian scheme.
-  void evaluateNetwork(const Eigen::MatrixX2d& features, Eigen::MatrixXd& N, Eigen::MatrixXd* dN_dphi,
-                       Eigen::MatrixXd* dN_dbeta) const;
+  void evaluateNetwork(const Eigen::Ref<const Eigen::MatrixXd>& features, Eigen::MatrixXd& N,
+                       std::array<Eigen::MatrixXd*, 3> dN) const;
 
   struct Torch;  // the layers as libtorch tensors (mlp_function.cpp)
   MlpParameters params_;
-  Eigen::MatrixXd anchor_values_;  // A × 3K: N at the anchors
+  Eigen::MatrixXd anchor_values_;  // A × wK: N at the anchors
   MlpJacobian jacobian_;
   std::unique_ptr<const Torch> torch_;
 };
 
 struct MlpModelFile {
   MlpParameters parameters;
-  PlanarGeometry geometry;
+  PlanarGeometry geometry;  // a spatial file's cut-off and band, torque_centre 0 (it has none)
+  SpatialGeometry spatialGeometry() const { return SpatialGeometry{geometry.cutoff, geometry.cutoff_width}; }
 };
 
 // Reads and validates an HDF5 model file (format above). Throws InputError naming the file and the
@@ -267,5 +296,8 @@ void saveMlpModel(const std::string& path, const MlpFunction& function, const Pl
 // Writes the model (the format above) into an open file, e.g. one that also gets the trainer's
 // /fit group (training/mlp/mlp_fit.hpp), which loadMlpModel ignores. Same checks as saveMlpModel.
 void writeMlpModel(h5::File& file, const MlpParameters& parameters, const PlanarGeometry& geometry);
+// The same for a spatial MLP (parameters.wrench = Spatial; the planar overloads refuse one).
+void saveMlpModel(const std::string& path, const MlpParameters& parameters, const SpatialGeometry& geometry);
+void writeMlpModel(h5::File& file, const MlpParameters& parameters, const SpatialGeometry& geometry);
 
 }  // namespace nmdp

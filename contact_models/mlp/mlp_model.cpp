@@ -3,6 +3,7 @@
 #include "contact_models/mlp/mlp_function.hpp"
 #include "common/input_error.hpp"
 #include "contact_models/planar_model_config.hpp"
+#include "contact_models/spatial_wrench_model.hpp"
 
 namespace nmdp {
 
@@ -18,6 +19,10 @@ std::unique_ptr<ContactModel> makeMlpModel(const nlohmann::json& params, const C
     failAtKey(ctx, "file", e.what());
   }
 
+  const bool spatial = model.parameters.wrench == MlpWrench::Spatial;
+  if (spatial && params.contains("torque_centre"))
+    failAtKey(ctx, "torque_centre",
+              "is for planar models: the spatial MLP in '" + path + "' gives the torque about the foot point");
   PlanarGeometry geometry = model.geometry;
   readGeometryOverrides(params, ctx, geometry);
 
@@ -28,6 +33,9 @@ std::unique_ptr<ContactModel> makeMlpModel(const nlohmann::json& params, const C
 
   auto function = std::make_shared<const MlpFunction>(std::move(model.parameters), jacobian);
   const nlohmann::json source = {{"file", path}, {"jacobian", mlpJacobianName(jacobian)}};
+  if (spatial)
+    return std::make_unique<SpatialWrenchModel>(std::move(function), SpatialGeometry{geometry.cutoff, geometry.cutoff_width},
+                                                "mlp", source);
   return std::make_unique<PlanarWrenchModel>(std::move(function), geometry, "mlp", source);
 }
 

@@ -1,5 +1,6 @@
 // The "mlp" contact model: an MlpFunction (mlp_function.hpp, libtorch) wrapped in a
-// PlanarWrenchModel (planar_wrench_model.hpp), built from a JSON object such as
+// PlanarWrenchModel (planar_wrench_model.hpp), or for a spatial (3-D) model file in a
+// SpatialWrenchModel (spatial_wrench_model.hpp), built from a JSON object such as
 //
 //     {"type": "mlp", "file": "sand_mlp.h5"}
 //     {"type": "mlp", "file": "sand_mlp.h5", "cutoff_width": 0.01}
@@ -7,7 +8,8 @@
 // Keys (every one optional except "file"):
 //   file          path, relative to the configuration file: the HDF5 model file (format in
 //                 mlp_function.hpp), written by saveMlpModel or 'nmdp fit'
-//   torque_centre m up the leg from the foot point; default: the file's
+//   torque_centre m up the leg from the foot point; default: the file's (planar files only: with a
+//                 spatial file it is an InputError, the torque being about the foot point)
 //   cutoff        m, zero wrench for phi >= cutoff; default: the file's
 //   cutoff_width  m > 0, blending band below the cut-off; default: the file's
 //   jacobian      how dV/dξ gets dW/df (mlp_function.hpp): "forward-mode" (default, libtorch
@@ -33,7 +35,7 @@ namespace nmdp {
 // Every key makeMlpModel accepts besides "type".
 extern const std::vector<std::string> kMlpParameters;
 
-// Returns a PlanarWrenchModel of type name "mlp". `params` may hold "type" (it must then be "mlp").
+// Returns a PlanarWrenchModel or, for a spatial file, a SpatialWrenchModel of type name "mlp". `params` may hold "type" (it must then be "mlp").
 std::unique_ptr<ContactModel> makeMlpModel(const nlohmann::json& params, const ConfigContext& ctx);
 
 }  // namespace nmdp

@@ -19,4 +19,14 @@ enum class MlpOutputEnvelope {
 inline constexpr EnumName<MlpOutputEnvelope> kMlpOutputEnvelopes[] = {
     {MlpOutputEnvelope::None, "none"}, {MlpOutputEnvelope::Depth, "depth"}, {MlpOutputEnvelope::SoftDepth, "soft_depth"}};
 
+// What a vertex of the network's output is (attribute 'wrench' of the model file): a planar
+// wrench (F_x, F_z, τ_y) of the features (φ, β), or a spatial one (τ_x, τ_y, τ_z, F_x, F_y, F_z) of
+// (φ, β, γ) (contact_models/spatial_wrench_model.hpp).
+enum class MlpWrench { Planar, Spatial };
+inline constexpr EnumName<MlpWrench> kMlpWrenches[] = {{MlpWrench::Planar, "planar"}, {MlpWrench::Spatial, "spatial"}};
+// The network's inputs: 2 (φ, β) or 3 (φ, β, γ).
+inline constexpr int mlpFeatureCount(MlpWrench wrench) { return wrench == MlpWrench::Spatial ? 3 : 2; }
+// Outputs per vertex: 3 (F_x, F_z, τ_y) or 6 (τ_x, τ_y, τ_z, F_x, F_y, F_z).
+inline constexpr int mlpWrenchWidth(MlpWrench wrench) { return wrench == MlpWrench::Spatial ? 6 : 3; }
+
 }  // namespace nmdp

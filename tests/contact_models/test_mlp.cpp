@@ -832,8 +832,8 @@ TEST(MlpFile, BadOutputEnvelope) {
 
 TEST(MlpFile, NewerFormatVersion) {
   RawFile raw;
-  raw.version = 5;
-  expectLoadError(raw, {"attribute 'format_version'", "versions 1 to 4"});
+  raw.version = 6;
+  expectLoadError(raw, {"attribute 'format_version'", "versions 1 to 5"});
 }
 
 TEST(MlpFile, MissingFile) {

@@ -20,7 +20,8 @@ namespace nmdp::test {
 inline ForceDataset smallDataset() { return syntheticDataset(4, {-0.04, -0.03, -0.02, -0.01, 0.0}, {-0.6, -0.3, 0.0, 0.3, 0.6}); }
 
 // The relative loss's scale (mlp_fit.hpp): the largest wrench entry over the training points.
-inline double largestTrainingWrench(const PlanarPoints& pts, const std::vector<bool>& validation) {
+template <class Points>
+inline double largestTrainingWrench(const Points& pts, const std::vector<bool>& validation) {
   double largest = 0.0;
   for (int i = 0; i < pts.pointCount(); ++i)
     if (!validation[i]) largest = std::max(largest, pts.values.row(i).cwiseAbs().maxCoeff());

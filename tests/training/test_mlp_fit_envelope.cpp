@@ -35,7 +35,7 @@ TEST(MlpFit, DepthEnvelopeFitsTheWrenchAndVanishesAtTheSurface) {
   c.augmentation.above_heights = std::vector<double>{};  // the data is then (−φ) times a function of β alone
   const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
   const MlpFit& fit = out.record.fit;
-  const PlanarPoints& pts = out.record.points;
+  const MlpPoints& pts = out.record.points;
   ASSERT_EQ(fit.parameters.output_envelope, MlpOutputEnvelope::Depth);
 
   // The output normalization is that of N = W / (−φ) over the training points below the surface.
@@ -136,7 +136,7 @@ TEST(MlpFit, ZeroAnchorsMakeTheModelVanishAtTheZeroWrenchTrainingPoints) {
   c.mlp.lbfgs_iterations = 50;
   const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
   const MlpFit& fit = out.record.fit;
-  const PlanarPoints& pts = out.record.points;
+  const MlpPoints& pts = out.record.points;
   // The anchors are the training points with an exactly zero wrench, in order.
   std::vector<int> zero;
   for (int i = 0; i < pts.pointCount(); ++i)
@@ -200,7 +200,7 @@ TEST(MlpFit, SoftDepthEnvelopeWithZeroAnchors) {
   c.mlp.lbfgs_iterations = 50;
   const MlpFitOutcome out = fitMlpToDataset(smallDataset(), c, "synthetic");
   const MlpFit& fit = out.record.fit;
-  const PlanarPoints& pts = out.record.points;
+  const MlpPoints& pts = out.record.points;
   const MlpParameters& p = fit.parameters;
   ASSERT_EQ(p.output_envelope, MlpOutputEnvelope::SoftDepth);
   EXPECT_EQ(p.envelope_width, 0.01);

@@ -51,7 +51,7 @@ TEST(MlpFit, EarlyStoppingKeepsTheBestValidationEpoch) {
   }
   // The kept weights give that validation loss (recomputed from the recorded errors: the relative loss
   // of mlp_fit.hpp, here in the units of the data).
-  const PlanarPoints& pts = out.record.points;
+  const MlpPoints& pts = out.record.points;
   const double floor = c.mlp.relative_floor * largestTrainingWrench(pts, fit.validation);
   double sum = 0.0;
   int count = 0;
@@ -74,7 +74,7 @@ TEST(MlpFit, SplitIsStratifiedByOriginAndWrench) {
   c.mlp.validation_fraction = 0.3;
   const ForceDataset positive = syntheticDataset(4, {-0.04, -0.03, -0.02, -0.01, 0.0}, {0.0, 0.3, 0.6});
   const MlpFitOutcome out = fitMlpToDataset(positive, c, "synthetic");
-  const PlanarPoints& pts = out.record.points;
+  const MlpPoints& pts = out.record.points;
   // Strata: origin × (zero wrench, a wrench); the surface rows of the measured and mirrored points
   // are zero.
   int total[6] = {0, 0, 0, 0, 0, 0}, held[6] = {0, 0, 0, 0, 0, 0};
@@ -106,7 +106,7 @@ TEST(MlpFit, TeacherGridIsFittedToTheTrainingPointsOnly) {
   // The teacher must not see the validation points: moving a validation point's data changes
   // nothing in the fit (the same split, the same teacher, the same training).
   ForceDataset moved = smallDataset();
-  const PlanarPoints& pts = out.record.points;
+  const MlpPoints& pts = out.record.points;
   int held = -1;
   for (int i = 0; i < pts.pointCount() && held < 0; ++i)
     if (out.record.fit.validation[i] && pts.origin[i] == PointOrigin::Measured) held = i;

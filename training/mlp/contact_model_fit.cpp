@@ -4,6 +4,7 @@
 #include "contact_models/mlp/mlp_function.hpp"
 #include "contact_models/planar_wrench_model.hpp"
 #include "contact_models/rbf_function.hpp"
+#include "contact_models/spatial_wrench_model.hpp"
 
 namespace nmdp {
 
@@ -37,6 +38,8 @@ void saveContactModelFit(const std::string& path, const ContactModelFit& fit) {
 std::unique_ptr<ContactModel> fittedContactModel(const ContactModelFit& fit) {
   if (fit.mlp) {
     auto function = std::make_shared<const MlpFunction>(fit.mlp->record.fit.parameters);
+    if (fit.mlp->spatial())
+      return std::make_unique<SpatialWrenchModel>(std::move(function), fit.mlp->spatialGeometry(), "mlp");
     return std::make_unique<PlanarWrenchModel>(std::move(function), fit.mlp->geometry, "mlp");
   }
   auto function = std::make_shared<const RbfFunction>(fit.rbf->record.fit.parameters);

@@ -37,7 +37,7 @@ void requireValidSettings(const MlpFitSettings& s) {
 
 // Split by point, stratified by origin and by whether the point carries a wrench (so the validation
 // points that carry one, those that say something about the fit, are a fixed share).
-void splitForValidation(const PlanarPoints& points, double fraction, std::mt19937& rng, std::vector<bool>& validation,
+void splitForValidation(const MlpPoints& points, double fraction, std::mt19937& rng, std::vector<bool>& validation,
                         std::vector<int>& train, std::vector<int>& val) {
   const int P = points.pointCount();
   validation.assign(P, false);
@@ -69,17 +69,17 @@ Eigen::RowVectorXd stdOf(const Eigen::MatrixXd& m, const Eigen::RowVectorXd& mu)
 // All rows before normalization: the points, then the teacher samples (always trained on).
 struct RawRows {
   int P = 0, T = 0;
-  Eigen::MatrixXd F, Y;      // features (φ, β) and wrenches
+  Eigen::MatrixXd F, Y;      // features (φ, β[, γ]) and wrenches
   Eigen::VectorXd envelope;  // m(φ) of every row
   std::vector<int> train;    // the training points and the teacher rows
 };
 
-RawRows stackRows(const PlanarPoints& points, const PlanarPoints& teacher, std::vector<int> train) {
+RawRows stackRows(const MlpPoints& points, const PlanarPoints& teacher, std::vector<int> train) {
   RawRows raw;
   raw.P = points.pointCount();
   raw.T = teacher.pointCount();
   const int P = raw.P, T = raw.T;
-  raw.F.resize(P + T, 2);
+  raw.F.resize(P + T, points.features.cols());
   raw.Y.resize(P + T, points.values.cols());
   raw.F.topRows(P) = points.features;
   raw.Y.topRows(P) = points.values;
@@ -140,11 +140,12 @@ Eigen::RowVectorXd normalize(RawRows& raw, const MlpFitSettings& s, MlpParameter
 // radius is the smallest normalized distance between two of them (with a single anchor, to the
 // nearest other training point), so each bump vanishes at the other anchors. Returns their rows
 // (none when there is no usable radius).
+template <int F>
 std::vector<int> chooseAnchors(const RawRows& raw, MlpParameters& params) {
   std::vector<int> anchor_rows;
   for (int i : raw.train)
     if (i < raw.P && (raw.Y.row(i).array() == 0.0).all()) anchor_rows.push_back(i);
-  const Eigen::Array2d inv_std = params.input_std.cwiseInverse().array();
+  const Eigen::Array<double, F, 1> inv_std = params.input_std.head<F>().cwiseInverse().array();
   const auto distance = [&](int a, int b) {
     return ((raw.F.row(a) - raw.F.row(b)).transpose().array() * inv_std).matrix().norm();
   };
@@ -200,11 +201,28 @@ Eigen::MatrixXd lossWeights(const RawRows& raw, const MlpFitSettings& s, const M
   return Wl;
 }
 
+// The values of the model as the contact model evaluates them, either kind.
+Eigen::MatrixXd modelValues(const MlpFunction& function, const Eigen::MatrixXd& features) {
+  Eigen::MatrixXd W;
+  if (function.wrench() == MlpWrench::Spatial)
+    function.evaluate(Eigen::MatrixX3d(features), W, nullptr);
+  else
+    function.evaluate(Eigen::MatrixX2d(features), W, nullptr, nullptr);
+  return W;
+}
+
 }  // namespace
 
 MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::string& where,
               const MlpProgress& progress, const RbfFitSettings* teacher_rbf) {
+  return fitMlp(mlpPoints(points), s, where, progress, teacher_rbf);
+}
+
+MlpFit fitMlp(const MlpPoints& points, const MlpFitSettings& s, const std::string& where,
+              const MlpProgress& progress, const RbfFitSettings* teacher_rbf) {
   requireValidSettings(s);
+  if (points.features.cols() != points.featureCount() || points.values.cols() % points.wrenchWidth() != 0)
+    throw std::invalid_argument("fitMlp: the points' features or values do not match their kind");
   const int P = points.pointCount(), K = points.vertexCount();
   if (P < 2)
     throw InputError(where + ": " + std::to_string(P) +
@@ -216,8 +234,10 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   splitForValidation(points, s.validation_fraction, rng, fit.validation, train, val);
   PlanarPoints teacher;
   if (s.teacher_grid[0] > 0) {
+    if (points.wrench != MlpWrench::Planar)
+      throw InputError(where + ": mlp.teacher_grid is for planar data (an RBF of (phi, beta)); leave it out for 3-D data");
     const RbfFitSettings defaults;
-    teacher = mlpTeacherSamples(points, train, s, teacher_rbf ? *teacher_rbf : defaults, where);
+    teacher = mlpTeacherSamples(planarPoints(points), train, s, teacher_rbf ? *teacher_rbf : defaults, where);
   }
   if (train.empty()) {
     std::ostringstream m;
@@ -225,10 +245,12 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
       << " points (rounded per origin): no point is left to train on; lower it (e.g. 0.1) or set it to 0";
     throw InputError(m.str());
   }
-  MlpParameters params = randomMlpParameters(s.hidden_layers, s.width, K, s.activation, s.seed);
+  MlpParameters params = randomMlpParameters(s.hidden_layers, s.width, K, s.activation, s.seed, points.wrench);
   RawRows raw = stackRows(points, teacher, train);
   const Eigen::RowVectorXd w_scale = normalize(raw, s, params);
-  const std::vector<int> anchor_rows = s.zero_anchors ? chooseAnchors(raw, params) : std::vector<int>{};
+  const std::vector<int> anchor_rows = !s.zero_anchors                      ? std::vector<int>{}
+                                       : points.wrench == MlpWrench::Spatial ? chooseAnchors<3>(raw, params)
+                                                                             : chooseAnchors<2>(raw, params);
 
   MlpTrainingRows rows;
   rows.enveloped = s.output_envelope != MlpOutputEnvelope::None;
@@ -237,7 +259,7 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   rows.targets = rows.enveloped ? raw.Y
                                 : Eigen::MatrixXd((raw.Y.rowwise() - params.output_offset.transpose()).array().rowwise() /
                                                   params.output_scale.transpose().array());
-  fit.point_scale = pointScales(points);
+  fit.point_scale = mlpPointScales(points);
   rows.weights = lossWeights(raw, s, params, w_scale, anchor_rows);
   rows.envelope = raw.envelope;
   rows.train = raw.train;
@@ -254,19 +276,19 @@ MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& s, const std::st
   trainMlp(rows, s, rng, where, progress, params, fit);
 
   // The error of the model as the contact model will evaluate it.
-  const MlpFunction function(params);
-  Eigen::MatrixXd W;
-  function.evaluate(points.features, W, nullptr, nullptr);
-  fit.error = W - points.values;
+  fit.error = modelValues(MlpFunction(params), points.features) - points.values;
   fit.teacher_samples = raw.T;
-  fit.relative = relativeVertexErrors(fit.error, fit.point_scale);
+  fit.relative = mlpRelativeVertexErrors(fit.error, fit.point_scale, points.wrenchWidth());
   fit.parameters = std::move(params);
   return fit;
 }
 
 void saveMlpFit(const std::string& path, const MlpFitRecord& r, const PlanarGeometry& geometry) {
   h5::File file = h5::File::createAtomic(path);
-  writeMlpModel(file, r.fit.parameters, geometry);
+  if (r.fit.parameters.wrench == MlpWrench::Spatial)
+    writeMlpModel(file, r.fit.parameters, SpatialGeometry{geometry.cutoff, geometry.cutoff_width});
+  else
+    writeMlpModel(file, r.fit.parameters, geometry);
   file.createGroup("/fit");
   file.writeStringAttribute("/fit", "data", r.data);
   file.writeStringAttribute("/fit", "settings", r.settings.dump());
@@ -297,27 +319,60 @@ void saveMlpFit(const std::string& path, const MlpFitRecord& r, const PlanarGeom
   file.commit();
 }
 
+namespace {
+
+// fitMlpToDataset for a 3-D dataset (mlp_fit.hpp).
+MlpFitOutcome fitSpatialMlpToDataset(const ForceDataset& data, const FitConfig& c, const std::string& data_name,
+                                     const MlpProgress& progress, std::chrono::steady_clock::time_point start) {
+  if (c.torque_centre)
+    throw InputError(data_name + ": torque_centre is for planar models; a spatial MLP's torque is about the foot point "
+                     "(leave it out for 3-D data)");
+  MlpFitOutcome out;
+  out.geometry = PlanarGeometry{0.0, c.cutoff.value_or(0.0), c.cutoff_width.value_or(SpatialGeometry{}.cutoff_width)};
+  if (!(out.geometry.cutoff_width > 0.0))
+    throw InputError(data_name + ": cutoff_width must be positive (m), got " + std::to_string(out.geometry.cutoff_width));
+  MlpFitRecord& r = out.record;
+  r.points = groupSpatialMlpSamples(data, data_name);
+  r.fit = fitMlp(r.points, c.mlp, data_name, progress, &c.rbf);
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  FitConfig recorded = c;
+  recorded.cutoff = out.geometry.cutoff;
+  recorded.cutoff_width = out.geometry.cutoff_width;
+  r.settings = fitConfigJson(recorded, 0.0, "mlp");
+  r.settings.erase("torque_centre");
+  r.settings.erase("augmentation");  // 3-D points are fitted as they are
+  r.data = data_name;
+  if (auto w = epochLimitWarning(r.fit.stopped_early, r.fit.epochs, r.fit.total_epochs, r.fit.best_epoch,
+                                 c.mlp.patience))
+    r.warnings.push_back(*w);
+  return out;
+}
+
+}  // namespace
+
 MlpFitOutcome fitMlpToDataset(const ForceDataset& data, const FitConfig& config, const std::string& data_name,
                               const MlpProgress& progress) {
   const auto start = std::chrono::steady_clock::now();
+  if (isSpatialMlpDataset(data)) return fitSpatialMlpToDataset(data, config, data_name, progress, start);
   const PlanarPoints grouped = groupPlanarSamples(data, data_name);
   const ResolvedFitConfig resolved = resolveFitConfig(config, data, grouped, data_name);
   const FitConfig& c = resolved.config;
   MlpFitOutcome out;
   out.geometry = fitGeometry(c);
   MlpFitRecord& r = out.record;
-  r.points = augment(grouped, c.augmentation);
-  r.fit = fitMlp(r.points, c.mlp, data_name, progress, &c.rbf);
+  const PlanarPoints augmented = augment(grouped, c.augmentation);
+  r.points = mlpPoints(augmented);
+  r.fit = fitMlp(augmented, c.mlp, data_name, progress, &c.rbf);
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   r.settings = fitConfigJson(c, out.geometry.torque_centre, "mlp");
   r.from_data = resolved.from_data;
   r.data = data_name;
-  r.above_surface = checkAboveSurface(MlpFunction(r.fit.parameters), out.geometry, r.points);
+  r.above_surface = checkAboveSurface(MlpFunction(r.fit.parameters), out.geometry, augmented);
   if (auto w = aboveSurfaceWarning(r.above_surface, out.geometry)) r.warnings.push_back(*w);
   if (auto w = epochLimitWarning(r.fit.stopped_early, r.fit.epochs, r.fit.total_epochs, r.fit.best_epoch,
                                  c.mlp.patience))
     r.warnings.push_back(*w);
-  if (auto w = validationSizeWarning(r.fit.validation, r.points, c.mlp.validation_fraction)) r.warnings.push_back(*w);
+  if (auto w = validationSizeWarning(r.fit.validation, augmented, c.mlp.validation_fraction)) r.warnings.push_back(*w);
   return out;
 }
 

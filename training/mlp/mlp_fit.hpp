@@ -1,7 +1,9 @@
-// MLP fitting of planar wrench spaces (DESIGN.md §7.3, §9): a multilayer perceptron of
-// contact_models/mlp/mlp_function.hpp trained with libtorch on the augmented points of a force dataset
-// (the same points the RBF fit interpolates: groupPlanarSamples + augment), so the result is an
-// MlpFunction that the "mlp" contact model loads as it is.
+// MLP fitting of planar and spatial wrench spaces (DESIGN.md §7.3, §9): a multilayer perceptron of
+// contact_models/mlp/mlp_function.hpp trained with libtorch on the points of a force dataset (for
+// planar data the augmented points the RBF fit interpolates: groupPlanarSamples + augment; for 3-D
+// data the grouped points as they are, mlp_points.hpp), so the result is an MlpFunction that the
+// "mlp" contact model loads as it is. Everything below holds for both kinds with (φ, β) read as the
+// F features and "3K outputs" as wK (w = 6 for spatial data); the teacher grid is planar only.
 //
 // Training (fitMlp):
 //   * normalization, stored in the model: input_mean/input_std = mean and standard deviation of
@@ -80,6 +82,7 @@
 #include <vector>
 
 #include "contact_models/mlp/mlp_function.hpp"
+#include "training/mlp/mlp_points.hpp"
 #include "training/mlp_fit_settings.hpp"
 #include "training/augmentation.hpp"
 #include "training/fit_warnings.hpp"
@@ -108,8 +111,8 @@ struct MlpFit {
   double train_loss = 0.0;          // of the kept weights
   double validation_loss = 0.0;     // of the kept weights; NaN without validation points
   Eigen::MatrixX2d history;         // epochs × 2: training and validation loss of every epoch
-  Eigen::MatrixXd error;            // P×3K: W_fit − W_data at every point (training and validation)
-  Eigen::MatrixXd relative;         // P×K: max over (F_x, F_z, τ_y) of |error| / point_scale
+  Eigen::MatrixXd error;            // P×wK: W_fit − W_data at every point (training and validation)
+  Eigen::MatrixXd relative;         // P×K: max over the vertex's w entries of |error| / point_scale
   Eigen::VectorXd point_scale;      // P: the largest |W_data| entry at the point (of all at zero points)
   int teacher_samples = 0;          // extra training samples (teacher grid)
 };
@@ -119,7 +122,10 @@ struct MlpFit {
 // are given, std::invalid_argument on settings parseFitConfig rejects (zero epochs, a width < 1...).
 // `teacher_rbf`: the RBF settings of the teacher grid (settings.teacher_grid; default RbfFitSettings
 // when null). The teacher RBF is fitted to the training points only, so validation stays unseen.
+// Spatial points train a spatial network; settings.teacher_grid is then an InputError (planar only).
 struct RbfFitSettings;
+MlpFit fitMlp(const MlpPoints& points, const MlpFitSettings& settings, const std::string& where,
+              const MlpProgress& progress = {}, const RbfFitSettings* teacher_rbf = nullptr);
 MlpFit fitMlp(const PlanarPoints& points, const MlpFitSettings& settings, const std::string& where,
               const MlpProgress& progress = {}, const RbfFitSettings* teacher_rbf = nullptr);
 
@@ -131,7 +137,7 @@ std::vector<double> teacherDepthRows(double lo, double hi, int n, double power);
 // What a fit records, as RbfFitRecord does for the RBF.
 struct MlpFitRecord {
   nlohmann::ordered_json settings;  // every key with the value used (fitConfigJson(..., "mlp"))
-  PlanarPoints points;
+  MlpPoints points;                 // planar (augmented) or spatial
   MlpFit fit;
   std::string data;
   double seconds = 0;  // wall time of augmentation and training
@@ -152,25 +158,31 @@ std::string formatMlpFitReport(const MlpFitRecord& record);
 //   /fit                attributes: data, settings (JSON text), report (text), seconds, epochs,
 //                       best_epoch, train_loss, validation_loss, from_data (text, one decided
 //                       setting a line), warnings (text, as in the report), above_surface_share
-//   /fit/points         P×2 float64 (φ, β), the augmented points
+//   /fit/points         P×F float64 (φ, β[, γ]), the (augmented) points
 //   /fit/origin         P int64: 0 measured, 1 mirrored, 2 above the surface
 //   /fit/validation     P int64: 1 held out for validation, 0 trained on
-//   /fit/values         P×3K float64, the data fitted
-//   /fit/error          P×3K float64, the fit minus the data
+//   /fit/values         P×wK float64, the data fitted
+//   /fit/error          P×wK float64, the fit minus the data
 //   /fit/relative_error P×K float64, relative to the largest wrench at the point
 //   /fit/history        epochs × 2 float64, training and validation loss per epoch
-// Atomically (path + ".partial", renamed on success).
+// Atomically (path + ".partial", renamed on success). A spatial fit is written as a spatial model
+// (geometry.torque_centre unused).
 void saveMlpFit(const std::string& path, const MlpFitRecord& record, const PlanarGeometry& geometry);
 
 // The whole MLP pipeline on a dataset, as fitRbfToDataset (fit_config.hpp) for the RBF: group by
 // point, decide what the configuration leaves to the data, augment, train with config.mlp, check
 // (fit_warnings.hpp), with the settings and the timing recorded. Throws
 // InputError for bad data (groupPlanarSamples), a missing torque centre, or settings that leave no
-// training point.
+// training point. A 3-D dataset (isSpatialMlpDataset) is grouped by groupSpatialMlpSamples and fitted
+// without augmentation; its cut-off is config.cutoff (default 0: zero at and above the surface) over
+// config.cutoff_width (default 5 mm), the torque centre does not apply (an InputError when given),
+// and the above-surface check is skipped (the cut-off zeroes the model there).
 struct FitConfig;
 struct MlpFitOutcome {
   MlpFitRecord record;
-  PlanarGeometry geometry;
+  PlanarGeometry geometry;  // a spatial fit's cut-off and band, torque_centre 0 (unused)
+  bool spatial() const { return record.fit.parameters.wrench == MlpWrench::Spatial; }
+  SpatialGeometry spatialGeometry() const { return SpatialGeometry{geometry.cutoff, geometry.cutoff_width}; }
 };
 MlpFitOutcome fitMlpToDataset(const ForceDataset& data, const FitConfig& config, const std::string& data_name,
                               const MlpProgress& progress = {});

@@ -8,13 +8,33 @@
 
 namespace nmdp {
 
+namespace {
+
+// Points by origin (measured, mirrored, above the surface), of all or the selected ones.
+std::array<int, 3> countByOrigin(const MlpPoints& points, const std::vector<bool>* selected = nullptr) {
+  std::array<int, 3> counts{0, 0, 0};
+  for (size_t i = 0; i < points.origin.size(); ++i)
+    if (!selected || (*selected)[i]) ++counts[static_cast<int>(points.origin[i])];
+  return counts;
+}
+
+// "φ, β" or "φ, β, γ" of point i, comma separated, in the stream's current format.
+void writeFeatures(std::ostream& s, const MlpPoints& pts, Eigen::Index i) {
+  for (Eigen::Index c = 0; c < pts.features.cols(); ++c) s << (c ? ", " : "") << pts.features(i, c);
+}
+
+}  // namespace
+
 std::string formatMlpFitReport(const MlpFitRecord& r) {
-  const PlanarPoints& pts = r.points;
+  const MlpPoints& pts = r.points;
   const MlpFit& fit = r.fit;
   const Eigen::Index P = pts.features.rows(), K = pts.vertexCount();
   std::ostringstream s(fitReportOpening("MLP", r.data, r.settings, r.from_data), std::ios::ate);
   const std::array<int, 3> counts = countByOrigin(pts), val_counts = countByOrigin(pts, &fit.validation);
   const int n_val = val_counts[0] + val_counts[1] + val_counts[2];
+  if (pts.wrench == MlpWrench::Spatial)
+    s << "3-D data: features (phi, beta, gamma), 6 wrench entries (tau_x, tau_y, tau_z, F_x, F_y, F_z) per vertex, "
+         "fitted without augmentation\n";
   s << "points: " << P << " (" << counts[0] << " measured, " << counts[1] << " mirrored, " << counts[2]
     << " zero-wrench above the surface), " << K << " vertices; " << P - n_val << " for training, " << n_val
     << " for validation (" << val_counts[0] << " measured, " << val_counts[1] << " mirrored, " << val_counts[2]
@@ -62,9 +82,9 @@ std::string formatMlpFitReport(const MlpFitRecord& r) {
       s << std::setw(13) << 100 * max_val << std::setw(13) << 100 * std::sqrt(sum2 / n_val);
     else
       s << std::setw(13) << "-" << std::setw(13) << "-";
-    s << std::setw(12) << 100 * max_train << std::defaultfloat << std::setprecision(4) << "   " << worst << " ("
-      << pts.features(worst, 0) << ", " << pts.features(worst, 1) << ", " << pointOriginName(pts.origin[worst])
-      << (fit.validation[worst] ? ", validation" : ", training") << ")\n";
+    s << std::setw(12) << 100 * max_train << std::defaultfloat << std::setprecision(4) << "   " << worst << " (";
+    writeFeatures(s, pts, worst);
+    s << ", " << pointOriginName(pts.origin[worst]) << (fit.validation[worst] ? ", validation" : ", training") << ")\n";
   }
   std::vector<Eigen::Index> order;
   for (Eigen::Index i = 0; i < P; ++i)
@@ -77,8 +97,9 @@ std::string formatMlpFitReport(const MlpFitRecord& r) {
   s << "worst " << (validation ? "validation" : "training") << " points (largest over the vertices, %):";
   for (size_t n = 0; n < std::min<size_t>(5, order.size()); ++n) {
     const Eigen::Index i = order[n];
-    s << (n ? "," : "") << " " << i << " (" << pts.features(i, 0) << ", " << pts.features(i, 1) << ") " << std::fixed
-      << std::setprecision(2) << 100 * per_point[i] << std::defaultfloat << std::setprecision(6);
+    s << (n ? "," : "") << " " << i << " (";
+    writeFeatures(s, pts, i);
+    s << ") " << std::fixed << std::setprecision(2) << 100 * per_point[i] << std::defaultfloat << std::setprecision(6);
   }
   s << "\n" << formatAboveSurface(r.above_surface) << formatFitWarnings(r.warnings);
   return s.str();
