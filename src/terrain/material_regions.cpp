@@ -242,9 +242,6 @@ std::string polygonProblem(const std::vector<Vec2>& points) {
     if (points[i] == points[(i + 1) % n])
       return "points " + std::to_string(i) + " and " + std::to_string((i + 1) % n) + " are the same" +
              (i + 1 == n ? " (do not repeat the first point at the end: the polygon closes itself)" : "");
-  double scale = 0.0;
-  for (const Vec2& p : points) scale = std::max(scale, (p - points[0]).norm());
-  if (!(std::abs(signedArea(points)) > 1e-12 * scale * scale)) return "the polygon has zero area (its points are collinear)";
   for (size_t i = 0; i < n; ++i) {
     const Vec2& a = points[i];
     const Vec2& b = points[(i + 1) % n];
@@ -258,6 +255,9 @@ std::string polygonProblem(const std::vector<Vec2>& points) {
                " cross or touch: the polygon intersects itself (give its points in order around it)";
     }
   }
+  double scale = 0.0;
+  for (const Vec2& p : points) scale = std::max(scale, (p - points[0]).norm());
+  if (!(std::abs(signedArea(points)) > 1e-12 * scale * scale)) return "the polygon has zero area (its points are collinear)";
   return "";
 }
 
