@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 
 #include "common/input_error.hpp"
 #include "contact_models/patched_model.hpp"
@@ -99,6 +100,15 @@ TEST(ScenePatches, QuadrupedTrotsFromRigidGroundIntoTheSandPitAndSinksThereOnly)
   EXPECT_LT(rigid.pit_depth, 0.01);
 }
 
+
+TEST(ScenePatches, A1TrotsIntoTheSandPitAndSinksThereOnly) {
+  if (!std::filesystem::exists(test::sharedPath("robots/a1/urdf/a1.urdf"))) GTEST_SKIP() << "../shared/robots/a1 is absent";
+  const PitRun r = runPit("a1_trot_sandpit.json");
+  ASSERT_TRUE(r.converged);
+  EXPECT_GT(r.pit_samples, 20);
+  EXPECT_LT(r.rigid_depth, 0.01);
+  EXPECT_GT(r.pit_mean_depth, 3 * r.rigid_mean_depth);
+}
 
 // ---- bad input: one InputError naming the scene file and the key ---------------------------------
 
