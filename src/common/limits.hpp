@@ -60,4 +60,10 @@ constexpr double kMaxSteps = 1e15;
 constexpr int kMaxRolloutThreads = 256;
 constexpr std::int64_t kMaxRolloutStateEntries = std::int64_t{1} << 30;
 
+// Material patches of one terrain and points of one patch polygon: a scene has a few pits and
+// paths of tens of points; the overlap check compares every pair of edges (10^4 patches x points
+// squared would take seconds).
+constexpr int kMaxMaterialPatches = 256;
+constexpr int kMaxPolygonPoints = 1000;
+
 }  // namespace nmdp::limits

@@ -13,6 +13,7 @@
 #include "config/json_params.hpp"
 #include "sim/scene_parts.hpp"
 #include "sim/scene_schema.hpp"
+#include "terrain/material_config.hpp"
 #include "terrain/terrain_factory.hpp"
 
 namespace nmdp {
@@ -96,6 +97,17 @@ std::string pathValue(const json& obj, const std::string& key, const Where& w, c
     }
   }
   return resolved;
+}
+
+// A contact model object's paths: "file" (a model file or folder) must exist; other "*_file" keys
+// are resolved and left to the model.
+void resolveModelFiles(json& model, const Where& w, const std::string& base_dir) {
+  if (!model.is_object()) return;
+  for (auto it = model.begin(); it != model.end(); ++it) {
+    const std::string& key = it.key();
+    const bool file_key = key == "file" || (key.size() > 5 && key.compare(key.size() - 5, 5, "_file") == 0);
+    if (file_key) it.value() = pathValue(model, key, w, base_dir, key == "file" ? PathKind::Existing : PathKind::Output);
+  }
 }
 
 const std::vector<std::string>& gaitKeys(SceneGaitType type) {
@@ -239,12 +251,7 @@ void parseContacts(const json& contacts, const Where& w, SceneConfig& c, json& o
   checkObject(c.contact_model, wm);
   if (!c.contact_model.contains("type")) wm.fail("missing required key 'type' (e.g. \"coulomb\", \"rbf\", \"mlp\")");
   if (!c.contact_model.at("type").is_string()) (wm / "type").fail("expected a string, got " + jsonForMessage(c.contact_model.at("type")));
-  // "file" (a model file or folder) must exist; other "*_file" keys are resolved and left to the model.
-  for (auto it = c.contact_model.begin(); it != c.contact_model.end(); ++it) {
-    const std::string& key = it.key();
-    const bool file_key = key == "file" || (key.size() > 5 && key.compare(key.size() - 5, 5, "_file") == 0);
-    if (file_key) it.value() = pathValue(c.contact_model, key, wm, c.base_dir, key == "file" ? PathKind::Existing : PathKind::Output);
-  }
+  resolveModelFiles(c.contact_model, wm, c.base_dir);
   out["model"] = c.contact_model;
 }
 
@@ -254,7 +261,24 @@ void parseTerrain(const json& terrain, const Where& w, SceneConfig& c) {
   if (!c.terrain.contains("type")) c.terrain["type"] = "plane";
   if (c.terrain.contains("file"))
     c.terrain["file"] = pathValue(c.terrain, "file", w, c.base_dir, PathKind::RegularFile, "terrain file");
-  makeTerrain(c.terrain, ConfigContext{w.str(), c.base_dir});  // validates every key
+  // The materials' model files, as contacts.model's (the rest of their shape is checked below).
+  if (c.terrain.contains("patches") && c.terrain.at("patches").is_array()) {
+    json& patches = c.terrain["patches"];
+    for (size_t i = 0; i < patches.size(); ++i)
+      if (patches[i].is_object() && patches[i].contains("model"))
+        resolveModelFiles(patches[i]["model"], w / ("patches[" + std::to_string(i) + "]") / "model", c.base_dir);
+  }
+  if (c.terrain.contains("material_map") && c.terrain.at("material_map").is_object()) {
+    json& map = c.terrain["material_map"];
+    const Where wm = w / "material_map";
+    if (map.contains("file")) map["file"] = pathValue(map, "file", wm, c.base_dir, PathKind::RegularFile, "material map file");
+    if (map.contains("models") && map.at("models").is_array())
+      for (size_t k = 0; k < map.at("models").size(); ++k)
+        resolveModelFiles(map["models"][k], wm / ("models[" + std::to_string(k) + "]"), c.base_dir);
+  }
+  const ConfigContext ctx{w.str(), c.base_dir};
+  const std::unique_ptr<Terrain> built = makeTerrain(c.terrain, ctx);  // validates every key
+  makeTerrainMaterials(c.terrain, *built, ctx);
 }
 
 void parseIntegrator(const json& in, const Where& w, SceneConfig& c, json& out) {

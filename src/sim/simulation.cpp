@@ -8,6 +8,9 @@
 #include "common/input_error.hpp"
 #include "multibody/kinematics.hpp"
 #include "multibody/urdf_loader.hpp"
+#include "common/limits.hpp"
+#include "contact_models/patched_model.hpp"
+#include "terrain/material_config.hpp"
 #include "terrain/terrain_factory.hpp"
 
 namespace nmdp {
@@ -56,6 +59,23 @@ TrunkState trunkState(const Model& model, Data& data, const Mat3& chart, const E
   return trunk;
 }
 
+// The scene's contact model over ground of several materials: the default (contacts.model) and
+// each material's model, blended (contact_models/patched_model.hpp); the default alone otherwise.
+std::unique_ptr<ContactModel> withMaterials(std::unique_ptr<ContactModel> default_model, const TerrainMaterials& materials,
+                                            const ContactModelRegistry& models, const ConfigContext& terrain_ctx) {
+  if (!materials.layout) return default_model;
+  std::vector<std::unique_ptr<ContactModel>> parts;
+  parts.push_back(std::move(default_model));
+  for (size_t m = 0; m < materials.models.size(); ++m)
+    parts.push_back(models.build(materials.models[m], ConfigContext{terrain_ctx.where + "." + materials.model_keys[m], terrain_ctx.base_dir}));
+  int vertices = 0;
+  for (const auto& part : parts) vertices += part->vertexCount();
+  if (vertices > limits::kMaxVertices)
+    throw InputError(terrain_ctx.where + ": the materials' models have " + std::to_string(vertices) +
+                     " vertices together, more than the " + std::to_string(limits::kMaxVertices) + " a contact may have");
+  return std::make_unique<PatchedModel>(materials.layout, std::move(parts));
+}
+
 }  // namespace
 
 Model loadSceneRobot(const SceneConfig& scene) {
@@ -72,7 +92,10 @@ Simulation buildSimulation(const SceneConfig& scene, Model robot, const ContactM
   auto p = std::make_unique<Simulation::Parts>(scene, std::move(robot));
   const SceneConfig& config = p->scene;
   p->contact_model = models.build(config.contact_model, ConfigContext{config.path + ": contacts.model", config.base_dir});
-  p->terrain = makeTerrain(config.terrain, ConfigContext{config.path + ": terrain", config.base_dir});
+  const ConfigContext terrain_ctx{config.path + ": terrain", config.base_dir};
+  p->terrain = makeTerrain(config.terrain, terrain_ctx);
+  p->contact_model = withMaterials(std::move(p->contact_model), makeTerrainMaterials(config.terrain, *p->terrain, terrain_ctx),
+                                   models, terrain_ctx);
   p->system.model = &p->model;
   p->system.contacts = contactPointsFor(config, p->model);
   p->system.contact_model = p->contact_model.get();

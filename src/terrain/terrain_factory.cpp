@@ -16,9 +16,10 @@ namespace nmdp {
 
 namespace {
 
-const std::vector<std::string> kPlaneKeys = {"type", "normal", "offset"};
-const std::vector<std::string> kHeightfieldKeys = {"type", "file", "origin", "spacing", "offset"};
-const std::vector<std::string> kProceduralKeys = {"type", "slope", "offset", "hills"};
+// Every type also takes the material keys (material_config.hpp reads them); only a heightfield a map.
+const std::vector<std::string> kPlaneKeys = {"type", "normal", "offset", "patches", "blend_width"};
+const std::vector<std::string> kHeightfieldKeys = {"type", "file", "origin", "spacing", "offset", "patches", "blend_width", "material_map"};
+const std::vector<std::string> kProceduralKeys = {"type", "slope", "offset", "hills", "patches", "blend_width"};
 const std::vector<std::string> kHillKeys = {"centre", "height", "width"};
 
 [[noreturn]] void fail(const ConfigContext& ctx, const std::string& key, const std::string& what) {

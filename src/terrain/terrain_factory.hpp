@@ -14,6 +14,9 @@
 //       slope angles in rad (a single number is slope_x), hills Gaussian with standard deviation
 //       `width` (ProceduralTerrain); all keys optional.
 //
+// Every type also accepts the material keys "patches" and "blend_width", a heightfield also
+// "material_map": makeTerrain leaves them to makeTerrainMaterials (material_config.hpp).
+//
 // Every error is an InputError naming ctx.where and the key (or the file, line and column): an
 // unknown type lists the valid types, an unknown key the valid keys.
 #pragma once
