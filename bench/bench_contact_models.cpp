@@ -1,14 +1,18 @@
 // Contact models, one core: V and dV/dξ for 4 contacts. Targets: Coulomb < 1 µs, the published RBF
 // model (103 centres × 26 vertices) < 20 µs, a 2×64 MLP with autograd < 100 µs (each Jacobian
 // scheme, and its feature function alone with dW/df for 4 rows, to see what the placement costs).
+// The 3-D RBF (SpatialRbf4_N<centres>_K<vertices>, synthetic, thin-plate with a linear tail) should
+// stay within 2× the shipped planar quadruped model (RbfQuadruped4: 99 centres, 13 vertices).
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
 #include <iostream>
+#include <random>
 
 #include "contact_models/coulomb_model.hpp"
 #include "contact_models/mlp/mlp_function.hpp"
 #include "contact_models/rbf_model.hpp"
+#include "contact_models/spatial_rbf_function.hpp"
 #include "terrain/plane.hpp"
 
 namespace {
@@ -52,6 +56,20 @@ void runFeatures(benchmark::State& state, const MlpFunction& function) {
   }
 }
 
+// A 3-D thin-plate RBF with a linear tail of the planned shape: N centres on a grid of depths ×
+// tilt nodes, K vertices, random weights (the cost does not depend on their values).
+std::shared_ptr<ContactModel> syntheticSpatialRbf(int N, int K) {
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  SpatialRbfParameters p;
+  p.centres.resize(N, 3);
+  for (int i = 0; i < N; ++i) p.centres.row(i) << -0.08 + 0.09 * (i / 5) / std::max(1, N / 5 - 1), 0.4 * u(rng), 0.4 * u(rng);
+  p.weights = Eigen::MatrixXd::NullaryExpr(N, 6 * K, [&]() { return 100.0 * u(rng); });
+  p.polynomial = Eigen::MatrixXd::NullaryExpr(4, 6 * K, [&]() { return 100.0 * u(rng); });
+  return std::make_shared<SpatialWrenchModel>(std::make_shared<const SpatialRbfFunction>(p), SpatialGeometry{0.0, 0.005},
+                                              "rbf");
+}
+
 void registerModel(const std::string& name, std::shared_ptr<ContactModel> model, double radius) {
   benchmark::RegisterBenchmark((name + "/V").c_str(), [model, radius](benchmark::State& s) { run(s, *model, radius, false); });
   benchmark::RegisterBenchmark((name + "/V+dV").c_str(), [model, radius](benchmark::State& s) { run(s, *model, radius, true); });
@@ -66,6 +84,10 @@ int main(int argc, char** argv) {
     registerModel("RbfPublished4", makeRbfModel({{"file", published}}, ctx), 0.0);
   else
     std::cerr << "../shared is absent (" << published << "): skipping the published RBF model\n";
+  registerModel("RbfQuadruped4", makeRbfModel({{"file", std::string(NMDP_SOURCE_DIR) + "/data/granular/rft_quadruped_rbf.h5"}}, ctx),
+                0.02);
+  for (const auto& [N, K] : {std::pair{45, 26}, std::pair{81, 26}, std::pair{45, 18}})
+    registerModel("SpatialRbf4_N" + std::to_string(N) + "_K" + std::to_string(K), syntheticSpatialRbf(N, K), 0.02);
   // "Mlp2x64_4" is forward-mode autograd (the default); the other schemes carry their name.
   for (MlpJacobian jacobian : {MlpJacobian::ForwardMode, MlpJacobian::DoubleBackward, MlpJacobian::Tangents}) {
     auto function = std::make_shared<MlpFunction>(randomMlpParameters(2, 64, 26, MlpActivation::Tanh, 7), jacobian);

@@ -12,5 +12,11 @@ namespace nmdp {
 // `angle`: rad, leg axis = cos(angle) n + sin(angle) x_s, x_s = y × n (forward); `radius`: m ≥ 0.
 // Exact on planes; on curved terrain the sphere is placed along the normal once (close, not exact).
 ContactFrame footFrameAt(const Terrain& terrain, double x, double y, double depth, double angle, double radius);
+// The same with the leg also leaning `lateral_angle` (rad) toward the lateral axis y_s: leg axis =
+// cos γ sin β x_s + sin γ y_s + cos γ cos β n (β = angle, γ = lateral_angle), so that on a plane the
+// 3-D models' features (spatial_wrench_model.hpp) are φ = depth, β = angle and γ = lateral_angle for
+// |angle| < π, |lateral_angle| < π/2. lateral_angle = 0 gives the frame above exactly.
+ContactFrame footFrameAt(const Terrain& terrain, double x, double y, double depth, double angle, double lateral_angle,
+                         double radius);
 
 }  // namespace nmdp

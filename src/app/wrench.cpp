@@ -14,8 +14,8 @@
 namespace nmdp::app {
 
 const char* const kWrenchHelp =
-    "usage: nmdp wrench --model MODEL [--terrain TERRAIN] [--depth D] [--angle B] [--radius R]\n"
-    "                   [--at X,Y] [--derivatives]\n\n"
+    "usage: nmdp wrench --model MODEL [--terrain TERRAIN] [--depth D] [--angle B] [--lateral-angle G]\n"
+    "                   [--radius R] [--at X,Y] [--derivatives]\n\n"
     "Evaluates a contact model for one foot and prints its wrench-space vertices as JSON: V, 6×K,\n"
     "rows [torque about the sphere centre; force] in the world frame, and with --derivatives dV/dξ\n"
     "for ξ = [rotation about the sphere centre; translation].\n\n"
@@ -24,6 +24,8 @@ const char* const kWrenchHelp =
     "  --terrain TERRAIN  a JSON object or .json file (default: the plane z = 0)\n"
     "  --depth D          signed distance of the foot's lowest point to the terrain, m (default -0.02)\n"
     "  --angle B          leg tilt from the terrain normal in the x-z plane, rad (default 0)\n"
+    "  --lateral-angle G  leg lean across that plane, toward y, rad (default 0): the 3-D models'\n"
+    "                     lateral feature; |G| < pi/2\n"
     "  --radius R         foot sphere radius, m (default 0.02)\n"
     "  --at X,Y           horizontal position of the foot (default 0,0)\n"
     "  --derivatives      also print dV/dξ (models without a derivative refuse)\n";
@@ -65,7 +67,7 @@ int runWrench(const Args& args) {
   nlohmann::json model_json, terrain_json = nlohmann::json::object();
   ConfigContext model_ctx, terrain_ctx{"--terrain", ""};
   bool have_model = false, derivatives = false;
-  double depth = -0.02, angle = 0.0, radius = 0.02, x = 0.0, y = 0.0;
+  double depth = -0.02, angle = 0.0, lateral_angle = 0.0, radius = 0.02, x = 0.0, y = 0.0;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     auto next = [&]() -> const std::string& { return optionValue(args, i, "wrench"); };
@@ -78,6 +80,10 @@ int runWrench(const Args& args) {
       depth = parseNumber(a, next(), 1e3);
     } else if (a == "--angle") {
       angle = parseNumber(a, next(), 1e3);
+    } else if (a == "--lateral-angle") {
+      lateral_angle = parseNumber(a, next(), 1e3);
+      if (!(std::abs(lateral_angle) < 0.5 * M_PI))
+        throw InputError("--lateral-angle: must lie strictly between -pi/2 and pi/2 (the leg leaning sideways)");
     } else if (a == "--radius") {
       radius = parseNumber(a, next(), 10.0);
       if (radius < 0) throw InputError("--radius: must be >= 0");
@@ -102,7 +108,7 @@ int runWrench(const Args& args) {
     throw InputError("--derivatives: this " + model->describe() + " model has no derivative (zeroth-order methods only)");
 
   // Place the sphere so that its lowest point is `depth` from the terrain below (x, y).
-  const ContactFrame frame = footFrameAt(*terrain, x, y, depth, angle, radius);
+  const ContactFrame frame = footFrameAt(*terrain, x, y, depth, angle, lateral_angle, radius);
 
   std::vector<ContactFrame> frames{frame};
   std::vector<ContactWrenches> out(1);

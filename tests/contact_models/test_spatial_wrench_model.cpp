@@ -8,6 +8,7 @@
 #include <random>
 
 #include "contact_derivative_check.hpp"
+#include "contact_models/foot_frame.hpp"
 #include "contact_models/rbf_function.hpp"
 #include "contact_models/spatial_rbf_function.hpp"
 #include "spatial_sand.hpp"
@@ -91,6 +92,24 @@ void checkDerivatives(const ContactModel& model, const Terrain& terrain, const s
       std::cout << "[ info ] dV/dxi vs central differences, " << label << ": " << r.worst << "\n";
       for (const ContactWrenches& w : r.analytic) EXPECT_GT(w.V.cwiseAbs().maxCoeff(), 0.0) << label;
     }
+}
+
+TEST(SpatialWrenchModel, FootFrameAtPlacesTheFeaturesAsked) {
+  // nmdp wrench's placement: on a plane, φ = depth, β = angle, γ = lateral angle; γ = 0 is the
+  // planar placement exactly.
+  for (const Vec3& normal : {Vec3(0, 0, 1), Vec3(0.2, -0.15, 1.0)}) {
+    const PlaneTerrain plane(normal, 0.03);
+    const ContactFrame f = footFrameAt(plane, 0.2, -0.1, -0.015, 0.35, -0.5, 0.02);
+    SpatialFrame s;
+    computeSpatialFrame(f, plane, kGeometry, false, s);
+    EXPECT_NEAR(s.planar.phi, -0.015, 1e-14);
+    EXPECT_NEAR(s.planar.beta, 0.35, 1e-14);
+    EXPECT_NEAR(s.gamma, -0.5, 1e-14);
+    const ContactFrame planar = footFrameAt(plane, 0.2, -0.1, -0.015, 0.35, 0.02);
+    const ContactFrame upright = footFrameAt(plane, 0.2, -0.1, -0.015, 0.35, 0.0, 0.02);
+    EXPECT_EQ(planar.leg_axis, upright.leg_axis);
+    EXPECT_EQ(planar.position, upright.position);
+  }
 }
 
 TEST(SpatialWrenchModel, DerivativesMatchCentralDifferences) {

@@ -33,8 +33,9 @@ inline Eigen::Matrix<double, 6, 1> sandWrench(const Eigen::Vector3d& f, const Ve
   const double gain = 1.0 + 0.3 * std::sin(beta) * d.x() + 0.2 * std::sin(gamma) * d.y();
   const Vec3 F = -k * h * gain * (0.4 * d + 0.6 * std::min(d.z(), 0.0) * Vec3::UnitZ());
   const Vec3 arm = 0.02 * Vec3(std::sin(beta) * std::cos(gamma), std::sin(gamma), 0.0);
+  const Vec3 tau = arm.cross(F);
   Eigen::Matrix<double, 6, 1> w;
-  w << arm.cross(F), F;
+  w << tau[0], tau[1], tau[2], F[0], F[1], F[2];
   return w;
 }
 
