@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Set-up command 1 (the main job): install what is missing, build, and run the default demo: the
 # project's quadruped trotting on granular terrain for 10 s at dt = 50 ms
-# (models/scenes/quadruped_trot_sand.json: planar base, pbd-pgm, the RFT-fitted sand model of
-# data/granular/), written to demo/trot.h5 as it runs, and plotted to demo/trot.png (torso height
+# (models/scenes/quadruped_trot_sand3d.json: floating base, ne-pgm, the default trot, the 3-D sand
+# model fitted from 3-D RFT samples in data/granular/), written to demo/trot.h5 as it runs, and
+# plotted to demo/trot.png (torso height
 # and forward distance against time, read back from the HDF5 file). It installs and builds only what
 # the demo needs (no GoogleTest, Google Benchmark or MuJoCo; no tests or benchmarks): scripts/test.sh
 # installs and builds the rest.
@@ -12,8 +13,8 @@ scripts/install-deps.sh --demo
 scripts/build.sh --nmdp
 mkdir -p demo
 echo
-echo "== nmdp simulate models/scenes/quadruped_trot_sand.json --out demo/trot.h5"
-build/nmdp simulate models/scenes/quadruped_trot_sand.json --out demo/trot.h5
+echo "== nmdp simulate models/scenes/quadruped_trot_sand3d.json --out demo/trot.h5"
+build/nmdp simulate models/scenes/quadruped_trot_sand3d.json --out demo/trot.h5
 # Debian's python3 has matplotlib and h5py (installed by install-deps.sh --demo); another python3 first on
 # PATH (pyenv, conda) may not.
 /usr/bin/python3 scripts/plot_run.py demo/trot.h5 demo/trot.png
