@@ -15,6 +15,34 @@ TILT_MAX = 0.5  # rad, about 29 degrees
 DISTANCE_TOLERANCE = 0.05  # relative to the reference's distance
 RMS_TOLERANCE = 0.05       # RMS torso deviation relative to the reference's distance
 YAW_MAX = 0.3              # rad, |final yaw|
+# The straight walk on 3-D sand (plan.WALK_CASES): the largest |yaw| over the run, the largest
+# lateral offset from the start line over the forward distance, and the forward distance against the
+# same robot's planar-base run on the planar model of the same medium.
+WALK_YAW_MAX = 0.1         # rad
+WALK_LATERAL_MAX = 0.05    # of the forward distance
+WALK_FORWARD_TOLERANCE = 0.10  # relative to the planar-base run's
+
+
+def walk_verdict(row, planar):
+    """(met, reasons) of a floating-base row on 3-D sand against its planar twin (rows of motion())."""
+    reasons = []
+    if not row["stable"]:
+        reasons.append("not stable")
+    if not row["yaw_max"] < WALK_YAW_MAX:
+        reasons.append(f"|yaw| reached {row['yaw_max']:.3f} rad")
+    forward = row["x"]
+    if not (math.isfinite(forward) and forward > 0):
+        reasons.append("it does not walk forward")
+        return False, reasons
+    if not row["y_max"] / forward < WALK_LATERAL_MAX:
+        reasons.append(f"lateral drift {100 * row['y_max'] / forward:.1f} % of forward")
+    if planar is None or not planar["stable"] or not planar["x"] > 0:
+        reasons.append("no stable planar-base twin")
+    else:
+        err = (forward - planar["x"]) / planar["x"]
+        if not abs(err) <= WALK_FORWARD_TOLERANCE:
+            reasons.append(f"forward {100 * err:+.1f} % from the planar base's")
+    return not reasons, reasons
 
 
 def _text(value):
@@ -58,7 +86,7 @@ def motion(d, planar):
         why.append(f"NaN at t = {t[n]:.3f} s")
     if n == 0:
         return dict(stable=False, why="; ".join(why + ["no finite row"]), x=math.nan, dxy=math.nan, yaw=math.nan,
-                    distance=math.nan, t_end=0.0)
+                    distance=math.nan, yaw_max=math.nan, y=math.nan, y_max=math.nan, t_end=0.0)
     z, h0 = pos[:n, 2], pos[0, 2]
     tilt = np.arccos(np.clip(np.cos(rpy[:n, 0]) * np.cos(rpy[:n, 1]), -1, 1))
     if t[n - 1] < d.get("duration", 0.0) - 1e-9:
@@ -70,10 +98,13 @@ def motion(d, planar):
             why.append(f"{what} at t = {t[int(np.argmax(bad))]:.2f} s")
     x = float(pos[n - 1, 0] - pos[0, 0])
     dxy = float(math.hypot(x, pos[n - 1, 1] - pos[0, 1]))
-    yaw = float(np.unwrap(rpy[:n, 2])[-1] - rpy[0, 2])
+    heading = np.unwrap(rpy[:n, 2]) - rpy[0, 2]
+    yaw = float(heading[-1])
+    lateral = pos[:n, 1] - pos[0, 1]
     wall = d.get("wall_time", np.full(len(t), np.nan))[1:n]
     wall = wall[np.isfinite(wall)]
     return dict(stable=not why, why="; ".join(why), x=x, dxy=dxy, yaw=yaw, distance=x if planar else dxy,
+                yaw_max=float(np.max(np.abs(heading))), y=float(lateral[-1]), y_max=float(np.max(np.abs(lateral))),
                 t_end=float(t[n - 1]), wall_per_s=float(wall.sum() / t[n - 1]) if len(wall) and t[n - 1] > 0 else math.nan,
                 outer=float(np.nanmean(d["outer_iterations"][1:n])) if "outer_iterations" in d and n > 1 else math.nan)
 
@@ -136,7 +167,7 @@ def _row(run, entry, case, duration):
             row.update(stable=False, why="; ".join(x for x in (f"exit {row['rc']}", row["why"]) if x))
     elif "why" not in row:
         row.update(stable=False, why="no output file" + (f" (exit {row['rc']})" if row["rc"] is not None else " (not run)"))
-    for k in ("x", "dxy", "yaw", "distance"):
+    for k in ("x", "dxy", "yaw", "distance", "yaw_max", "y", "y_max"):
         row.setdefault(k, math.nan)
     return row, d
 

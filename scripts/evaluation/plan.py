@@ -9,13 +9,14 @@ ROOT = os.path.abspath(os.path.join(os.path.dirname(os.path.abspath(__file__)), 
 CASE_DIR = os.path.join(ROOT, "models", "scenes", "evaluation")
 
 METHODS = ["ne-pgm", "pbd-pgm"]  # the default method and its PBD twin
-DTS = [0.001, 0.005, 0.01, 0.02, 0.05]
+DTS = [0.001, 0.005, 0.01, 0.02, 0.025, 0.05]
 DEFAULT = ""  # the variant label of the rows with the scene defaults
 
 # Keys a case's scene may not set: they would make it a tuned case rather than one with the
 # defaults. A labelled variant may set them (a variant is an extra row, never the verdict's).
 TUNING_KEYS = ("integrator", "controller.kp", "controller.kd", "controller.tau_ff",
-               "controller.gait.swing_profile", "controller.gait.ground_speed_share", "controller.gait.start_ramp")
+               "controller.gait.swing_profile", "controller.gait.ground_speed_share", "controller.gait.start_ramp",
+               "controller.gait.heading_feedback")
 
 # The discretization's levers, on every case: the paper's method (its K, its fixed step), the fixed
 # step alone, and the second order with and without error control.
@@ -45,7 +46,21 @@ CASES = {
     "robosimian_walk_rigid": ("RoboSimian", {_TUNED: _ROBOSIMIAN_GAINS}),
     "robosimian_walk_sand": ("RoboSimian", {_TUNED: _ROBOSIMIAN_GAINS}),
     "quadruped_trot_sand": ("quadruped", {_TUNED: _QUADRUPED_GAINS}),
+    "quadruped_trot_sand3d": ("quadruped", {}),
+    "a1_trot_sand3d": ("A1", {}),
+    "solo12_trot_sand3d": ("Solo-12", {}),
 }
+
+# The straight-walk study on 3-D sand: the floating-base cases below at WALK_DTS with the default
+# method, each beside the same robot on a planar base with the planar model fitted from the same RFT
+# medium and foot (the variant PLANAR_TWIN, an extra row of the step-size tables too).
+WALK_CASES = ["quadruped_trot_sand3d", "a1_trot_sand3d", "solo12_trot_sand3d"]
+WALK_DTS = [0.01, 0.025, 0.05]
+PLANAR_TWIN = "planar base, planar model of the same medium"
+_PLANAR_MODEL = "../../../data/granular/rft3d_quadruped_planar_rbf.h5"  # relative to the case file
+_PLANAR_TWIN_SETS = ["robot.base=planar", 'contacts.model={"type": "rbf", "file": "%s"}' % _PLANAR_MODEL]
+for _case in WALK_CASES:
+    CASES[_case][1][PLANAR_TWIN] = _PLANAR_TWIN_SETS
 
 
 def load_case(path, robot=None, variants=None):

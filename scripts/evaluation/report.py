@@ -7,7 +7,7 @@ import os
 import socket
 
 from . import metrics
-from .plan import DEFAULT, ROOT
+from .plan import DEFAULT, PLANAR_TWIN, ROOT, WALK_CASES, WALK_DTS
 
 WITHIN = f"within {100 * metrics.DISTANCE_TOLERANCE:g} %"  # the verdict's name, from its tolerance
 
@@ -125,6 +125,48 @@ def _verdict(rows, cases, methods, dts, reference_dt):
     return lines + [""]
 
 
+def _walk(rows, cases, methods):
+    """The straight walk on 3-D sand: each floating-base case of plan.WALK_CASES at WALK_DTS beside
+    its planar twin, with metrics.walk_verdict."""
+    m = metrics
+    present = [c for c in cases if c["id"] in WALK_CASES]
+    lines = ["## Straight walking on 3-D sand", ""]
+    if not present:
+        return lines + ["No 3-D sand case ran.", ""]
+    lines += [f"The floating-base trot with the scene defaults on the 3-D sand model, at dt = {_ms(WALK_DTS)}, beside "
+              f"the same robot on a planar base with the planar model fitted from the same RFT medium and foot "
+              f"(the variant *{PLANAR_TWIN}*). **Met**: stable, the largest |yaw| over the run below "
+              f"{m.WALK_YAW_MAX:g} rad, the largest lateral offset from the start line below "
+              f"{100 * m.WALK_LATERAL_MAX:g} % of the forward distance, and the forward distance within "
+              f"{100 * m.WALK_FORWARD_TOLERANCE:g} % of the planar twin's at the same method and dt.", "",
+              "| case | method | dt ms | stable | forward x m | largest |yaw| rad | final yaw rad | largest |y| m "
+              "(% of forward) | planar twin x m | forward vs planar % | met |",
+              "|---|---|---:|---|---:|---:|---:|---:|---:|---:|---|"]
+    met = {}
+    for c in present:
+        for method in methods:
+            for dt in WALK_DTS:
+                r = next((x for x in rows if x["case"] == c["id"] and x["variant"] == DEFAULT and x["method"] == method
+                          and abs(x["dt"] - dt) < 1e-12), None)
+                p = next((x for x in rows if x["case"] == c["id"] and x["variant"] == PLANAR_TWIN
+                          and x["method"] == method and abs(x["dt"] - dt) < 1e-12), None)
+                if r is None:
+                    continue
+                ok, why = m.walk_verdict(r, p)
+                met.setdefault(method, []).append(ok)
+                px = p["x"] if p else math.nan
+                err = 100 * (r["x"] - px) / px if p and px > 0 else math.nan
+                share = 100 * r["y_max"] / r["x"] if r["x"] > 0 else math.nan
+                lines.append(f"| {c['id']} | {method} | {dt * 1000:g} | {'yes' if r['stable'] else 'no: ' + r['why']} | "
+                             f"{fmt(r['x'])} | {fmt(r['yaw_max'])} | {fmt(r['yaw'], '+.3f')} | {fmt(r['y_max'])} "
+                             f"({fmt(share, '.1f')} %) | {fmt(px)} | {fmt(err, '+.1f')} | "
+                             + ("yes" if ok else "**no**: " + ", ".join(why)) + " |")
+    lines.append("")
+    for method, oks in met.items():
+        lines.append(f"- {method}: {sum(oks)} of {len(oks)} rows met.")
+    return lines + [""]
+
+
 def _table_row(r):
     within = "yes" if r["within"] else "**no**: " + ", ".join(r["reasons"])
     if r["is_ref"]:
@@ -155,7 +197,8 @@ def _tables(rows, cases, figures):
 def write(path, info, cases, skipped, rows, figures, methods, dts, reference_dt):
     """Writes the page to `path` and returns it."""
     lines = (_header(info, skipped) + _setup(info, cases, methods, dts, reference_dt)
-             + _verdict(rows, cases, methods, dts, reference_dt) + _tables(rows, cases, figures))
+             + _verdict(rows, cases, methods, dts, reference_dt) + _walk(rows, cases, methods)
+             + _tables(rows, cases, figures))
     lines += ["## MuJoCo side by side", "",
               "A1's trot beside MuJoCo, and the speed of each engine at equal accuracy: "
               "[docs/results/mujoco_a1.md](results/mujoco_a1.md), written by `bench/bench_mujoco`.", ""]

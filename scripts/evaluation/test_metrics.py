@@ -96,3 +96,24 @@ class Verdict(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class StraightWalk(unittest.TestCase):
+    def test_a_straight_walk_matching_its_planar_twin_is_met(self):
+        ok, why = metrics.walk_verdict(metrics.motion(walk(speed=(0.3, 0.001)), False),
+                                       metrics.motion(walk(speed=(0.29, 0.0)), True))
+        self.assertTrue(ok, why)
+
+    def test_yaw_drift_and_distance_each_fail_it(self):
+        planar = metrics.motion(walk(speed=(0.3, 0.0)), True)
+        turning = metrics.motion(walk(speed=(0.3, 0.0), yaw_rate=0.02), False)  # 0.2 rad at the end
+        self.assertAlmostEqual(turning["yaw_max"], 0.2, places=6)
+        ok, why = metrics.walk_verdict(turning, planar)
+        self.assertFalse(ok)
+        self.assertIn("|yaw| reached 0.200 rad", why)
+        drifting = metrics.motion(walk(speed=(0.3, 0.03)), False)  # 10 % sideways
+        self.assertFalse(metrics.walk_verdict(drifting, planar)[0])
+        self.assertIn("lateral drift 10.0 % of forward", metrics.walk_verdict(drifting, planar)[1])
+        slow = metrics.motion(walk(speed=(0.2, 0.0)), False)
+        self.assertIn("forward -33.3 % from the planar base's", metrics.walk_verdict(slow, planar)[1])
+        self.assertIn("no stable planar-base twin", metrics.walk_verdict(slow, None)[1])
