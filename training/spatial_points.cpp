@@ -22,6 +22,11 @@ SpatialPoints groupSpatialSamples(const ForceDataset& data, const std::string& w
   if (data.wrench.cols() != 6)
     throw InputError(where + ": dataset '/wrench' must be N x 6 (tau_x, tau_y, tau_z, F_x, F_y, F_z) for a 3-D "
                      "model (features phi, beta, gamma), it is N x " + std::to_string(data.wrench.cols()));
+  // Columns in another order would be fitted silently as the wrong components.
+  const std::vector<std::string> wrench_names = {"tau_x", "tau_y", "tau_z", "F_x", "F_y", "F_z"};
+  if (data.wrench_names != wrench_names)
+    throw InputError(where + ": dataset '/wrench' must have the 6 columns \"" + joinNames(wrench_names) +
+                     "\" of a 3-D model, in that order; it has \"" + joinNames(data.wrench_names) + "\"");
   GroupedSamples grouped = groupSamplesByPoint(data, where);
   SpatialPoints out;
   out.features = grouped.features;

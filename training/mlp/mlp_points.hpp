@@ -32,13 +32,12 @@ MlpPoints mlpPoints(const PlanarPoints& points);
 // Back to planar points (an exact copy; points.wrench must be Planar).
 PlanarPoints planarPoints(const MlpPoints& points);
 
-// Whether a force dataset holds 3-D samples: 3 features (then they must be "phi, beta, gamma").
+// Whether a force dataset holds 3-D samples (training/spatial_points.hpp: isSpatialDataset).
 bool isSpatialMlpDataset(const ForceDataset& data);
 
-// Groups the samples of a 3-D dataset by feature point (points in order of first appearance).
-// Requires the features "phi, beta, gamma" and the 6 wrench columns "tau_x, tau_y, tau_z, F_x, F_y,
-// F_z", and at every point one sample of each vertex 0..K−1. Throws InputError "`where`: ..." naming
-// the dataset, the point and the vertex otherwise.
+// The 3-D samples grouped by feature point, as the RBF fit groups them (groupSpatialSamples: the
+// features "phi, beta, gamma", the 6 wrench columns in order, every vertex at every point; an
+// InputError naming the dataset otherwise), as MLP points.
 MlpPoints groupSpatialMlpSamples(const ForceDataset& data, const std::string& where);
 
 // At each point the largest |value| entry (the largest of all at zero-wrench points), as pointScales.
