@@ -1,8 +1,9 @@
 // Contact models, one core: V and dV/dξ for 4 contacts. Targets: Coulomb < 1 µs, the published RBF
 // model (103 centres × 26 vertices) < 20 µs, a 2×64 MLP with autograd < 100 µs (each Jacobian
 // scheme, and its feature function alone with dW/df for 4 rows, to see what the placement costs).
-// The 3-D RBF (SpatialRbf4_N<centres>_K<vertices>, synthetic, thin-plate with a linear tail) should
-// stay within 2× the shipped planar quadruped model (RbfQuadruped4: 99 centres, 13 vertices).
+// The shipped 3-D sand model (RbfQuadruped3d4: 45 centres, 17 vertices of 6-D wrenches) should stay
+// within 2× the shipped planar quadruped model (RbfQuadruped4: 99 centres, 13 vertices); the synthetic
+// 3-D RBFs (SpatialRbf4_N<centres>_K<vertices>, thin-plate with a linear tail) show how it scales.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -86,6 +87,8 @@ int main(int argc, char** argv) {
     std::cerr << "../shared is absent (" << published << "): skipping the published RBF model\n";
   registerModel("RbfQuadruped4", makeRbfModel({{"file", std::string(NMDP_SOURCE_DIR) + "/data/granular/rft_quadruped_rbf.h5"}}, ctx),
                 0.02);
+  registerModel("RbfQuadruped3d4",
+                makeRbfModel({{"file", std::string(NMDP_SOURCE_DIR) + "/data/granular/rft3d_quadruped_rbf.h5"}}, ctx), 0.02);
   for (const auto& [N, K] : {std::pair{45, 26}, std::pair{81, 26}, std::pair{45, 18}})
     registerModel("SpatialRbf4_N" + std::to_string(N) + "_K" + std::to_string(K), syntheticSpatialRbf(N, K), 0.02);
   // "Mlp2x64_4" is forward-mode autograd (the default); the other schemes carry their name.
