@@ -318,14 +318,31 @@ ForceDataset importSandSamplesCsv(const std::string& folder) {
                          num(points.rows[p][0]) + ", theta " + num(points.rows[p][1]) + ") of " + features_path + ":" +
                          std::to_string(points.lines[p]) + " (every point needs Nvel = " + std::to_string(K) +
                          " samples)");
-  d.feature_names = {"phi", "beta"};
-  d.feature_units = {"m", "rad"};
-  d.wrench_names = {"F_x", "F_z", "tau_y"};
-  d.wrench_units = {"N", "N", "N m"};
+  applySampleLayout(d, planarSampleLayout());
   d.source = "imported from " + folder + " (depth -> phi, theta -> beta, vel_index -> vertex, fx, fz, wy)";
   if (const auto it = scalars.find("cT"); it != scalars.end()) d.torque_centre = it->second;
   validateForceDataset(d, samples_path);
   return d;
+}
+
+const SampleLayout& planarSampleLayout() {
+  static const SampleLayout layout{{"phi", "beta"}, {"m", "rad"}, {"F_x", "F_z", "tau_y"}, {"N", "N", "N m"}};
+  return layout;
+}
+
+const SampleLayout& spatialSampleLayout() {
+  static const SampleLayout layout{{"phi", "beta", "gamma"},
+                                   {"m", "rad", "rad"},
+                                   {"tau_x", "tau_y", "tau_z", "F_x", "F_y", "F_z"},
+                                   {"N m", "N m", "N m", "N", "N", "N"}};
+  return layout;
+}
+
+void applySampleLayout(ForceDataset& data, const SampleLayout& layout) {
+  data.feature_names = layout.feature_names;
+  data.feature_units = layout.feature_units;
+  data.wrench_names = layout.wrench_names;
+  data.wrench_units = layout.wrench_units;
 }
 
 }  // namespace nmdp

@@ -39,6 +39,17 @@ struct ForceDataset {
   std::optional<double> torque_centre;                    // m, when the data says
 };
 
+// The names and units of the two layouts the contact models take: planar, features (phi, beta) in
+// (m, rad) and wrench (F_x, F_z, tau_y) in (N, N, N m); spatial, features (phi, beta, gamma) in
+// (m, rad, rad) and wrench (tau_x, tau_y, tau_z, F_x, F_y, F_z) in (N m, N m, N m, N, N, N).
+struct SampleLayout {
+  std::vector<std::string> feature_names, feature_units, wrench_names, wrench_units;
+};
+const SampleLayout& planarSampleLayout();
+const SampleLayout& spatialSampleLayout();
+// Sets the dataset's names and units to the layout's.
+void applySampleLayout(ForceDataset& data, const SampleLayout& layout);
+
 // Throws InputError "`where`: dataset '/x' ..." on the first inconsistency (see above).
 void validateForceDataset(const ForceDataset& data, const std::string& where);
 

@@ -189,10 +189,7 @@ ForceDataset rftSamples(const RftMedium& medium, const RftFoot& foot, const RftG
         d.vertex[row] = static_cast<int>(j);
         d.wrench.row(row) << w.fx, w.fz, w.wy;
       }
-  d.feature_names = {"phi", "beta"};
-  d.feature_units = {"m", "rad"};
-  d.wrench_names = {"F_x", "F_z", "tau_y"};
-  d.wrench_units = {"N", "N", "N m"};
+  applySampleLayout(d, planarSampleLayout());
   d.torque_centre = foot.torque_centre;
   const RftCoefficients& c = medium.coefficients;
   std::ostringstream s;

@@ -4,8 +4,8 @@
 // Which law. The target is the three-dimensional RFT of Agarwal, Goldman and Kamrin (PNAS 120,
 // e2214017120, 2023; arXiv 2205.14920). Its formulation could not be taken from the paper's text,
 // and the only available values of its reduced-order functions (an unverified third-party
-// implementation) do not reduce to the planar generic form of training/rft.hpp
-// (docs/notes/2026-11-27-rft3d.md). This file therefore implements a PROJECTION law in the spirit
+// implementation) do not reduce to the planar generic form of training/rft.hpp (the rft3d note in
+// docs/notes has the check). This file therefore implements a PROJECTION law in the spirit
 // of Treers, Cao and Stuart (IEEE RA-L 6, 2021, "Granular resistive force theory implementation for
 // three-dimensional trajectories"): the planar law of Li, Zhang and Goldman (Science 2013;
 // training/rft.hpp) applied in the vertical plane of the element's velocity. Treers et al.'s

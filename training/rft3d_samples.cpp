@@ -84,10 +84,7 @@ ForceDataset rft3dSamples(const RftMedium& medium, const Rft3dFoot& foot, const 
           d.vertex[row] = static_cast<int>(j);
           d.wrench.row(row) << w.torque.transpose(), w.force.transpose();
         }
-  d.feature_names = {"phi", "beta", "gamma"};
-  d.feature_units = {"m", "rad", "rad"};
-  d.wrench_names = {"tau_x", "tau_y", "tau_z", "F_x", "F_y", "F_z"};
-  d.wrench_units = {"N m", "N m", "N m", "N", "N", "N"};
+  applySampleLayout(d, spatialSampleLayout());
   d.source = describe(medium, foot, grid, false);
   return d;
 }
@@ -117,10 +114,7 @@ ForceDataset rft3dPlanarSamples(const RftMedium& medium, const Rft3dFoot& foot, 
         d.wrench.row(row) << w.force.x(), w.force.z(), tau_q;
       }
     }
-  d.feature_names = {"phi", "beta"};
-  d.feature_units = {"m", "rad"};
-  d.wrench_names = {"F_x", "F_z", "tau_y"};
-  d.wrench_units = {"N", "N", "N m"};
+  applySampleLayout(d, planarSampleLayout());
   d.torque_centre = torque_centre;
   d.source = describe(medium, foot, grid, true) + ", torque centre " + number(torque_centre) + " m";
   return d;

@@ -14,7 +14,8 @@ bool isSpatialDataset(const ForceDataset& data) { return data.features.cols() ==
 
 SpatialPoints groupSpatialSamples(const ForceDataset& data, const std::string& where) {
   validateForceDataset(data, where);
-  if (data.features.cols() != 3 || data.feature_names != std::vector<std::string>{"phi", "beta", "gamma"})
+  const SampleLayout& layout = spatialSampleLayout();
+  if (data.features.cols() != 3 || data.feature_names != layout.feature_names)
     throw InputError(where +
                      ": dataset '/features' must have the 3 features \"phi, beta, gamma\" of the 3-D contact models "
                      "(signed depth, sagittal and lateral leg lean), it has \"" +
@@ -23,9 +24,8 @@ SpatialPoints groupSpatialSamples(const ForceDataset& data, const std::string& w
     throw InputError(where + ": dataset '/wrench' must be N x 6 (tau_x, tau_y, tau_z, F_x, F_y, F_z) for a 3-D "
                      "model (features phi, beta, gamma), it is N x " + std::to_string(data.wrench.cols()));
   // Columns in another order would be fitted silently as the wrong components.
-  const std::vector<std::string> wrench_names = {"tau_x", "tau_y", "tau_z", "F_x", "F_y", "F_z"};
-  if (data.wrench_names != wrench_names)
-    throw InputError(where + ": dataset '/wrench' must have the 6 columns \"" + joinNames(wrench_names) +
+  if (data.wrench_names != layout.wrench_names)
+    throw InputError(where + ": dataset '/wrench' must have the 6 columns \"" + joinNames(layout.wrench_names) +
                      "\" of a 3-D model, in that order; it has \"" + joinNames(data.wrench_names) + "\"");
   GroupedSamples grouped = groupSamplesByPoint(data, where);
   SpatialPoints out;

@@ -1,4 +1,4 @@
-// The issue's walk on 3-D sand: the project's quadruped on a floating base, default trot, 10 s on
+// The straight walk on 3-D sand: the project's quadruped on a floating base, default trot, 10 s on
 // the 3-D sand model (models/scenes/quadruped_trot_sand3d.json), at dt = 10, 25 and 50 ms, walks
 // forward with |yaw| below 0.1 rad, a lateral drift below 5 % of the forward distance, and the
 // forward distance within 10 % of the same robot on a planar base with the planar model fitted from
@@ -6,48 +6,23 @@
 // the same for A1 and Solo-12.
 #include <cmath>
 
-#include "scene_simulation.hpp"
+#include "trot_heading_run.hpp"
 
 namespace nmdp::test {
 namespace {
 
-struct Walk {
-  double forward = 0.0;      // m along the start heading at the end
-  double max_yaw = 0.0;      // rad, largest |yaw − start yaw|
-  double max_lateral = 0.0;  // m, largest |offset| from the start line
-  bool completed = false;
-};
-
-Walk walk(const std::vector<std::string>& overrides) {
-  Simulation sim = repositorySimulation("quadruped_trot_sand3d.json", overrides);
-  Vec3 start, start_rpy, position, rpy;
-  sim.basePose(start, start_rpy);
-  const Vec3 heading(std::cos(start_rpy.z()), std::sin(start_rpy.z()), 0.0), left(-heading.y(), heading.x(), 0.0);
-  Walk run;
-  double yaw = start_rpy.z(), previous = start_rpy.z();
-  for (long i = 0; i < sim.scheduledSteps(); ++i) {
-    if (!sim.step().converged) return run;
-    sim.basePose(position, rpy);
-    yaw += std::remainder(rpy.z() - previous, 2 * M_PI);  // unwrapped
-    previous = rpy.z();
-    run.max_yaw = std::max(run.max_yaw, std::abs(yaw - start_rpy.z()));
-    run.max_lateral = std::max(run.max_lateral, std::abs(left.dot(position - start)));
-  }
-  run.forward = heading.dot(position - start);
-  run.completed = true;
-  return run;
-}
+HeadingRun walk(const std::vector<std::string>& overrides) { return runHeading("quadruped_trot_sand3d.json", overrides); }
 
 class Sand3dWalk : public ::testing::TestWithParam<double> {};
 
 TEST_P(Sand3dWalk, FloatingQuadrupedWalksStraightAndAsFarAsOnAPlanarBase) {
   const std::string dt = "integrator.dt=" + std::to_string(GetParam());
-  const Walk floating = walk({dt});
+  const HeadingRun floating = walk({dt});
   ASSERT_TRUE(floating.completed);
   EXPECT_GT(floating.forward, 1.0);
   EXPECT_LT(floating.max_yaw, 0.1);                                // 0.054–0.055 rad measured
   EXPECT_LT(floating.max_lateral, 0.05 * floating.forward);       // 0.8 %
-  const Walk planar = walk({dt, "robot.base=planar",
+  const HeadingRun planar = walk({dt, "robot.base=planar",
                             R"(contacts.model={"type": "rbf", "file": "../../data/granular/rft3d_quadruped_planar_rbf.h5"})"});
   ASSERT_TRUE(planar.completed);
   EXPECT_NEAR(floating.forward, planar.forward, 0.10 * planar.forward);  // 4.17 m against 4.34 m

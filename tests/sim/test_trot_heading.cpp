@@ -3,37 +3,12 @@
 // off.
 #include <cmath>
 
-#include "scene_simulation.hpp"
+#include "trot_heading_run.hpp"
 
 namespace nmdp::test {
 namespace {
 
-struct HeadingRun {
-  double forward = 0.0;      // m along the start heading at the end
-  double max_yaw = 0.0;      // rad, largest |yaw − start yaw|
-  double max_lateral = 0.0;  // m, largest |offset| from the start line
-  bool completed = false;
-};
-
-HeadingRun runTrot(const std::vector<std::string>& overrides) {
-  Simulation sim = repositorySimulation("quadruped_trot_flat.json", overrides);
-  Vec3 start, start_rpy, position, rpy;
-  sim.basePose(start, start_rpy);
-  const Vec3 heading(std::cos(start_rpy.z()), std::sin(start_rpy.z()), 0.0), left(-heading.y(), heading.x(), 0.0);
-  HeadingRun run;
-  double yaw = start_rpy.z(), previous = start_rpy.z();
-  for (long i = 0; i < sim.scheduledSteps(); ++i) {
-    if (!sim.step().converged) return run;
-    sim.basePose(position, rpy);
-    yaw += std::remainder(rpy.z() - previous, 2 * M_PI);  // unwrapped
-    previous = rpy.z();
-    run.max_yaw = std::max(run.max_yaw, std::abs(yaw - start_rpy.z()));
-    run.max_lateral = std::max(run.max_lateral, std::abs(left.dot(position - start)));
-  }
-  run.forward = heading.dot(position - start);
-  run.completed = true;
-  return run;
-}
+HeadingRun runTrot(const std::vector<std::string>& overrides) { return runHeading("quadruped_trot_flat.json", overrides); }
 
 // The bounds: |yaw| < 0.1 rad and the sideways drift below 5 % of the forward distance.
 constexpr double kMaxYaw = 0.1;
