@@ -28,6 +28,14 @@ struct ContactFrame {
   bool lateral_rotates = true;     // false when the sagittal plane is fixed in the world (planar base)
 };
 
+// One input of a contact model at a contact (a column of ContactModel::features), for the output
+// file and the viewer: "depth" in "m", "lean" in "rad", ...
+struct ContactFeatureInfo {
+  std::string name;
+  std::string unit;
+  std::string description;  // one line
+};
+
 struct ContactWrenches {
   Mat6X V;                   // 6×K
   std::array<Mat6X, 6> dV;   // dV/dξ_i, each 6×K (only when derivatives were requested)
@@ -54,6 +62,15 @@ class ContactModel {
   // derivative() is None throws std::logic_error naming the zeroth-order alternative.
   virtual void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain,
                         std::vector<ContactWrenches>& out, bool with_derivatives) const = 0;
+
+  // What the model reads at a contact, one column each: the first is always the signed depth
+  // (m, negative below the surface) as the model measures it; models that read more (the granular
+  // models' lean angles) add columns. Fixed for the model's lifetime.
+  virtual std::vector<ContactFeatureInfo> featureInfo() const;
+  // The features of each frame, a row each: `out` is frames.size() × featureInfo().size(). Never
+  // allocates. The default is the one column of the sphere's signed distance φ(c) − r.
+  virtual void features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                        Eigen::Ref<Eigen::MatrixXd> out) const;
 };
 
 }  // namespace nmdp

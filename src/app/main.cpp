@@ -4,6 +4,7 @@
 #include <filesystem>
 #include <iostream>
 
+#include "app/build_version.hpp"
 #include "app/commands.hpp"
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
@@ -55,12 +56,17 @@ void printUsage(std::ostream& out) {
   out << "nmdp - legged robots on rigid and granular ground with learned contact models\n\n"
          "usage: nmdp <command> [options]\n\ncommands:\n";
   for (const Command& c : kCommands) out << "  " << c.name << std::string(10 - std::strlen(c.name), ' ') << c.summary << "\n";
-  out << "\nnmdp <command> --help shows the options of a command.\n";
+  out << "\nnmdp <command> --help shows the options of a command; nmdp --version the version and commit.\n";
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  if (argc == 2 && !std::strcmp(argv[1], "--version")) {
+    const nmdp::BuildVersion v = nmdp::buildVersion();
+    std::cout << "nmdp " << v.version << " (commit " << v.commit << ")\n";
+    return 0;
+  }
   if (argc < 2 || !std::strcmp(argv[1], "--help") || !std::strcmp(argv[1], "-h") || !std::strcmp(argv[1], "help")) {
     printUsage(std::cout);
     return argc < 2 ? 2 : 0;
