@@ -67,10 +67,16 @@ class ContactModel {
   // (m, negative below the surface) as the model measures it; models that read more (the granular
   // models' lean angles) add columns. Fixed for the model's lifetime.
   virtual std::vector<ContactFeatureInfo> featureInfo() const;
-  // The features of each frame, a row each: `out` is frames.size() × featureInfo().size(). Never
-  // allocates. The default is the one column of the sphere's signed distance φ(c) − r.
+  // The features of each frame, a row each: `out` is frames.size() × featureInfo().size() (any
+  // other shape throws std::logic_error). Never allocates. The default is the one column of the
+  // sphere's signed distance φ(c) − r.
   virtual void features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
                         Eigen::Ref<Eigen::MatrixXd> out) const;
+
+ protected:
+  // Throws std::logic_error naming `model` unless `out` is frames × columns (for features()).
+  static void requireFeatureShape(const char* model, std::size_t frames, const Eigen::Ref<Eigen::MatrixXd>& out,
+                                  Eigen::Index columns);
 };
 
 }  // namespace nmdp

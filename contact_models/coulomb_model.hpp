@@ -12,6 +12,9 @@
 //    μ k (d^p + ζ): with the weights w ≥ 0, 1ᵀw ≤ 1 of the solver, the largest normal force a
 //    contact can carry is k (d^p + ζ), and the friction it can add is bounded by μ times that.
 //
+// Its one feature is the ContactModel default, "depth" = φ(c) − r (so d = max(0, −depth)): the
+// cone reads nothing else (not the leg axis).
+//
 // p ≥ 2 makes V C¹ in the contact position (d^p has a zero derivative at d = 0); ζ > 0 leaves a
 // tiny force in the air so ∂G/∂w keeps full rank (ZOPGM). The model depends on the contact point
 // only (not on the link orientation), so dV/dξ is zero along the three rotations; along the

@@ -1,5 +1,6 @@
 #include "contact_models/patched_model.hpp"
 
+#include <limits>
 #include <sstream>
 #include <stdexcept>
 
@@ -17,6 +18,50 @@ PatchedModel::PatchedModel(std::shared_ptr<const MaterialLayout> layout, std::ve
     vertex_count_ += m->vertexCount();
   }
   parts_.resize(models_.size());
+
+  for (const auto& m : models_) {
+    std::vector<Eigen::Index>& columns = feature_column_.emplace_back();
+    const std::vector<ContactFeatureInfo> info = m->featureInfo();
+    for (const ContactFeatureInfo& column : info) {
+      Eigen::Index at = 0;
+      while (at < static_cast<Eigen::Index>(feature_info_.size()) && feature_info_[at].name != column.name) ++at;
+      if (at == static_cast<Eigen::Index>(feature_info_.size())) feature_info_.push_back(column);
+      else if (feature_info_[at].unit != column.unit)
+        throw std::invalid_argument("PatchedModel: the materials' feature '" + column.name + "' has units '" +
+                                    feature_info_[at].unit + "' and '" + column.unit + "'");
+      columns.push_back(at);
+    }
+    one_row_.emplace_back(1, static_cast<Eigen::Index>(info.size()));
+  }
+  feature_info_.push_back({"material", "1",
+                           "index of the material with the largest weight at the sphere centre, whose features the "
+                           "row holds: 0 the ground's default, m >= 1 patch m - 1"});
+  feature_info_.push_back({"weight", "1", "that material's weight w_m in [0, 1] at the sphere centre"});
+  point_w_.resize(models_.size());
+  point_wx_.resize(models_.size());
+  point_wy_.resize(models_.size());
+  one_frame_.resize(1);
+}
+
+void PatchedModel::features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                            Eigen::Ref<Eigen::MatrixXd> out) const {
+  const Eigen::Index columns = static_cast<Eigen::Index>(feature_info_.size());
+  requireFeatureShape("patched", frames.size(), out, columns);
+  out.setConstant(std::numeric_limits<double>::quiet_NaN());
+  for (std::size_t b = 0; b < frames.size(); ++b) {
+    const Eigen::Index row = static_cast<Eigen::Index>(b);
+    layout_->weights(frames[b].position.x(), frames[b].position.y(), point_w_.data(), point_wx_.data(),
+                     point_wy_.data());
+    size_t m = 0;
+    for (size_t k = 1; k < models_.size(); ++k)
+      if (point_w_[k] > point_w_[m]) m = k;
+    one_frame_[0] = frames[b];
+    Eigen::MatrixXd& own = one_row_[m];
+    models_[m]->features(one_frame_, terrain, own);
+    for (Eigen::Index j = 0; j < own.cols(); ++j) out(row, feature_column_[m][static_cast<size_t>(j)]) = own(0, j);
+    out(row, columns - 2) = static_cast<double>(m);
+    out(row, columns - 1) = point_w_[m];
+  }
 }
 
 DerivativeSupport PatchedModel::derivative() const {

@@ -13,6 +13,14 @@
 // w_m = 1 its columns are that model's V bit for bit. derivative() is the weakest of the
 // materials' (Analytic < Autograd < None). Allocates nothing once warmed up (the batch is passed
 // whole to each evaluated model, so that models which size scratch per batch keep their buffers).
+//
+// Features: a contact reports the features of the material with the largest weight under its
+// centre (the lowest index on a tie, e.g. the default at the middle of a band), as that material's
+// model computes them. The columns are fixed for the model's lifetime: the union of the materials'
+// columns by name, in the order they first appear (material 0's first, so "depth" leads), then
+// "material" (the index m of that material: 0 the default, m ≥ 1 patch m − 1) and "weight" (its
+// w_m). A column the reporting material does not have is NaN (e.g. "beta" where a Coulomb default
+// reports). Two materials with one column name but different units throw std::invalid_argument.
 #pragma once
 #include <memory>
 #include <vector>
@@ -35,6 +43,10 @@ class PatchedModel : public ContactModel {
   nlohmann::json configuration() const override { return models_[0]->configuration(); }
   void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
                 bool with_derivatives) const override;
+  // The union of the materials' columns, then "material" and "weight" (see above).
+  std::vector<ContactFeatureInfo> featureInfo() const override { return feature_info_; }
+  void features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                Eigen::Ref<Eigen::MatrixXd> out) const override;
 
   const MaterialLayout& layout() const { return *layout_; }
   const ContactModel& material(int m) const { return *models_[static_cast<size_t>(m)]; }
@@ -49,6 +61,14 @@ class PatchedModel : public ContactModel {
   // M per contact) and each material's wrenches of the whole batch.
   mutable std::vector<double> w_, wx_, wy_;
   mutable std::vector<std::vector<ContactWrenches>> parts_;
+  // Features: the column layout, material m's column j going to column feature_column_[m][j], and
+  // scratch sized in the constructor (features() takes one contact at a time, so it never allocates):
+  // the weights at one point and one contact's frame and features per material.
+  std::vector<ContactFeatureInfo> feature_info_;
+  std::vector<std::vector<Eigen::Index>> feature_column_;
+  mutable std::vector<double> point_w_, point_wx_, point_wy_;
+  mutable std::vector<ContactFrame> one_frame_;
+  mutable std::vector<Eigen::MatrixXd> one_row_;
 };
 
 }  // namespace nmdp

@@ -82,6 +82,19 @@ void computePlanarFrame(const ContactFrame& frame, const Terrain& terrain, const
   }
 }
 
+ContactFeatureInfo planarDepthFeature() {
+  return {"depth", "m",
+          "phi: signed distance of the foot sphere's surface to the terrain (the terrain distance of the sphere "
+          "centre minus the radius), negative below it"};
+}
+
+ContactFeatureInfo planarBetaFeature() {
+  return {"beta", "rad",
+          "beta: sagittal leg angle atan2(a.x_s, a.n), the rotation about y_s taking the terrain normal n to the leg "
+          "axis a (from the foot up the leg); y_s = the contact's lateral axis projected onto the tangent plane, "
+          "x_s = y_s x n; positive when the leg leans toward x_s (forward)"};
+}
+
 PlanarWrenchModel::PlanarWrenchModel(std::shared_ptr<const FeatureWrenchFunction> function, PlanarGeometry geometry,
                                      std::string type, nlohmann::json source)
     : function_(std::move(function)), geometry_(geometry), type_(std::move(type)), source_(std::move(source)) {}
@@ -101,6 +114,21 @@ std::string PlanarWrenchModel::describe() const {
   s << type_ << ": " << function_->describe() << ", torque centre " << geometry_.torque_centre << " m, cut-off "
     << geometry_.cutoff << " m (band " << geometry_.cutoff_width << " m)";
   return s.str();
+}
+
+std::vector<ContactFeatureInfo> PlanarWrenchModel::featureInfo() const {
+  return {planarDepthFeature(), planarBetaFeature()};
+}
+
+void PlanarWrenchModel::features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                                 Eigen::Ref<Eigen::MatrixXd> out) const {
+  requireFeatureShape(type_.c_str(), frames.size(), out, 2);
+  PlanarFrame f;
+  for (std::size_t b = 0; b < frames.size(); ++b) {
+    computePlanarFrame(frames[b], terrain, geometry_, false, f);
+    out(static_cast<Eigen::Index>(b), 0) = f.phi;
+    out(static_cast<Eigen::Index>(b), 1) = f.beta;
+  }
 }
 
 void PlanarWrenchModel::evaluateRows(const std::vector<ContactFrame>& frames, const Terrain& terrain,

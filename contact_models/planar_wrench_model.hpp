@@ -17,6 +17,9 @@
 //                  and continuous everywhere. Contacts at or above the cut-off get V = dV = 0
 //                  without evaluating the feature function (when it has evaluateRows()).
 // The derivative dV/dξ is analytic in the geometry and uses the feature function's dW/df.
+// features() reports (φ, β) of each contact as "depth" (m) and "beta" (rad), computed by
+// computePlanarFrame as evaluate() computes them, so they are bit for bit what the feature
+// function was given (also above the cut-off, where the function is not evaluated).
 #pragma once
 #include <memory>
 
@@ -79,6 +82,11 @@ struct PlanarFrame {
 void computePlanarFrame(const ContactFrame& frame, const Terrain& terrain, const PlanarGeometry& geometry,
                         bool with_derivatives, PlanarFrame& out);
 
+// The descriptions of the granular models' features φ ("depth") and β ("beta"), shared with the
+// spatial models (spatial_wrench_model.hpp), whose first two features are the same.
+ContactFeatureInfo planarDepthFeature();
+ContactFeatureInfo planarBetaFeature();
+
 class PlanarWrenchModel : public ContactModel {
  public:
   // `source`: the configuration keys that identify the feature function ("file", "format", ...), as
@@ -93,6 +101,10 @@ class PlanarWrenchModel : public ContactModel {
   nlohmann::json configuration() const override;
   void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
                 bool with_derivatives) const override;
+  // "depth" φ (m) and "beta" β (rad), the feature function's inputs.
+  std::vector<ContactFeatureInfo> featureInfo() const override;
+  void features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                Eigen::Ref<Eigen::MatrixXd> out) const override;
 
   const FeatureWrenchFunction& function() const { return *function_; }
   const PlanarGeometry& geometry() const { return geometry_; }

@@ -50,6 +50,26 @@ std::string SpatialWrenchModel::describe() const {
   return s.str();
 }
 
+std::vector<ContactFeatureInfo> SpatialWrenchModel::featureInfo() const {
+  return {planarDepthFeature(), planarBetaFeature(),
+          {"gamma", "rad",
+           "gamma: lateral leg lean asin(a.y_s), positive when the leg axis a leans toward y_s (so that "
+           "a = cos(gamma) sin(beta) x_s + sin(gamma) y_s + cos(gamma) cos(beta) n)"}};
+}
+
+void SpatialWrenchModel::features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                                  Eigen::Ref<Eigen::MatrixXd> out) const {
+  requireFeatureShape(type_.c_str(), frames.size(), out, kSpatialFeatureCount);
+  SpatialFrame f;
+  for (std::size_t b = 0; b < frames.size(); ++b) {
+    computeSpatialFrame(frames[b], terrain, geometry_, false, f);
+    const Eigen::Index row = static_cast<Eigen::Index>(b);
+    out(row, 0) = f.planar.phi;
+    out(row, 1) = f.planar.beta;
+    out(row, 2) = f.gamma;
+  }
+}
+
 void SpatialWrenchModel::evaluateRows(const std::vector<ContactFrame>& frames, const Terrain& terrain,
                                       bool with_derivatives) const {
   const Eigen::Index B = static_cast<Eigen::Index>(frames.size());

@@ -17,6 +17,9 @@
 //  * cut-off       the wrenches are scaled by the planar models' C² step σ(φ) (cutoffStep), zero at
 //                  and above `cutoff`, so the model is exactly zero in the air.
 // The derivative dV/dξ is analytic in the geometry and uses the feature function's dW/df.
+// features() reports (φ, β, γ) of each contact as "depth" (m), "beta" and "gamma" (rad), computed
+// by computeSpatialFrame as evaluate() computes them, so they are bit for bit what the feature
+// function was given (also above the cut-off, where the function is not evaluated).
 #pragma once
 #include <array>
 #include <memory>
@@ -96,6 +99,10 @@ class SpatialWrenchModel : public ContactModel {
   nlohmann::json configuration() const override;
   void evaluate(const std::vector<ContactFrame>& frames, const Terrain& terrain, std::vector<ContactWrenches>& out,
                 bool with_derivatives) const override;
+  // "depth" φ (m), "beta" β and "gamma" γ (rad), the feature function's inputs.
+  std::vector<ContactFeatureInfo> featureInfo() const override;
+  void features(const std::vector<ContactFrame>& frames, const Terrain& terrain,
+                Eigen::Ref<Eigen::MatrixXd> out) const override;
 
   const SpatialFeatureFunction& function() const { return *function_; }
   const SpatialGeometry& geometry() const { return geometry_; }

@@ -1019,6 +1019,42 @@ TEST(MlpModel, ModelEvaluationTwiceIsBitIdentical) {
   }
 }
 
+TEST(MlpModel, FeaturesAreTheNetworksInput) {
+  // The model as the factory builds it from a file, on flat ground: the legs of frames 0 and 3
+  // lean by 0.3 and −0.2 rad in the world's sagittal plane (lateral axis y), 3 and 1 cm deep.
+  TempFile file("features.h5");
+  saveMlpModel(file.path(), testParameters(), testGeometry());
+  const auto model = makeMlpModel({{"file", file.path()}}, ConfigContext{"test", ""});
+  const auto& planar = dynamic_cast<const PlanarWrenchModel&>(*model);
+  ASSERT_EQ(model->featureInfo().size(), 2u);
+  EXPECT_EQ(model->featureInfo()[0].name, "depth");
+  EXPECT_EQ(model->featureInfo()[1].name, "beta");
+  const PlaneTerrain terrain;
+  const std::vector<ContactFrame> all = testFrames(terrain);
+  const std::vector<ContactFrame> frames = {all[0], all[3]};
+  Eigen::MatrixXd f(2, 2);
+  model->features(frames, terrain, f);
+  EXPECT_NEAR(f(0, 0), -0.03, 1e-15);
+  EXPECT_NEAR(f(0, 1), 0.3, 1e-15);
+  EXPECT_NEAR(f(1, 0), -0.01, 1e-15);
+  EXPECT_NEAR(f(1, 1), -0.2, 1e-15);
+  // The network at the reported features gives the model's forces: F = (σ F_x, 0, σ F_z) there.
+  std::vector<ContactWrenches> out(2);
+  for (ContactWrenches& w : out) w.resize(kVertices);
+  model->evaluate(frames, terrain, out, false);
+  Eigen::MatrixXd W;
+  planar.function().evaluate(Eigen::MatrixX2d(f), W, nullptr, nullptr);
+  for (int c = 0; c < 2; ++c) {
+    const double sigma = cutoffStep(planar.geometry(), f(c, 0), nullptr);
+    Eigen::MatrixXd expected(3, kVertices);
+    for (int k = 0; k < kVertices; ++k) expected.col(k) = Vec3(sigma * W(c, 3 * k), 0.0, sigma * W(c, 3 * k + 1));
+    const Eigen::MatrixXd forces = out[c].V.bottomRows<3>();
+    EXPECT_GT(forces.cwiseAbs().maxCoeff(), 1.0) << c;
+    // A batch of 2 through the model's rows and of 2 through evaluate(): one network, another kernel.
+    EXPECT_LE(test::ulpsOfLargest(forces, expected), 64.0) << c << "\n" << forces << "\n" << expected;
+  }
+}
+
 TEST(MlpModel, FactoryBuildsFromJson) {
   TempFile file("factory.h5");
   saveMlpModel(file.path(), testParameters(), testGeometry());

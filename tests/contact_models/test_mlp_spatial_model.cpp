@@ -89,6 +89,45 @@ INSTANTIATE_TEST_SUITE_P(AllSchemes, MlpSpatialModelDerivatives,
                            return s;
                          });
 
+TEST(MlpSpatialModel, FeaturesAreTheNetworksInput) {
+  // On flat ground with lateral axis y (R = I) the force rows of V are σ (F_x, F_y, F_z) of the
+  // network at the reported (φ, β, γ).
+  const auto function = std::make_shared<const MlpFunction>(spatialParameters(MlpActivation::Tanh), MlpJacobian::Tangents);
+  const SpatialWrenchModel model(function, kGeometry, "mlp");
+  ASSERT_EQ(model.featureInfo().size(), 3u);
+  EXPECT_EQ(model.featureInfo()[2].name, "gamma");
+  const PlaneTerrain flat;
+  const double depths[2] = {-0.02, -0.008}, betas[2] = {0.2, -0.3}, gammas[2] = {0.1, -0.25};
+  std::vector<ContactFrame> frames(2);
+  for (int c = 0; c < 2; ++c) {
+    frames[c].radius = 0.02;
+    frames[c].position = Vec3(0.1 * c, 0.0, 0.02 + depths[c]);
+    frames[c].leg_axis = Vec3(std::cos(gammas[c]) * std::sin(betas[c]), std::sin(gammas[c]),
+                              std::cos(gammas[c]) * std::cos(betas[c]));
+    frames[c].lateral = Vec3::UnitY();
+  }
+  Eigen::MatrixXd f(2, 3);
+  model.features(frames, flat, f);
+  for (int c = 0; c < 2; ++c) {
+    EXPECT_NEAR(f(c, 0), depths[c], 1e-15);
+    EXPECT_NEAR(f(c, 1), betas[c], 1e-15);
+    EXPECT_NEAR(f(c, 2), gammas[c], 1e-15);
+  }
+  std::vector<ContactWrenches> out(2);
+  for (ContactWrenches& w : out) w.resize(model.vertexCount());
+  model.evaluate(frames, flat, out, false);
+  Eigen::MatrixXd W;
+  function->evaluate(Eigen::MatrixX3d(f), W, nullptr);
+  for (int c = 0; c < 2; ++c) {
+    const double sigma = cutoffStep(planarGeometryOf(kGeometry), f(c, 0), nullptr);
+    Eigen::MatrixXd expected(3, model.vertexCount());
+    for (int k = 0; k < model.vertexCount(); ++k) expected.col(k) = sigma * W.row(c).segment<3>(6 * k + 3).transpose();
+    const Eigen::MatrixXd forces = out[c].V.bottomRows<3>();
+    EXPECT_GT(forces.cwiseAbs().maxCoeff(), 1.0) << c;
+    EXPECT_LE(ulpsOfLargest(forces, expected), 64.0) << c << "\n" << forces << "\n" << expected;
+  }
+}
+
 TEST(MlpSpatialModel, RegistryLoadsASpatialFile) {
   const TempDir dir;
   const std::string path = dir.file("sand3d_mlp.h5");
