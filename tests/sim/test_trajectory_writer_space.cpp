@@ -69,7 +69,7 @@ TEST(TrajectoryWriter, AChunkThatDoesNotFitEndsTheRunWithEveryStepKept) {
     } catch (const TrajectoryWriter::OutOfSpace& e) {
       reason = e.what();
     }
-    EXPECT_EQ(w.steps(), appended);  // the step that did not fit was not appended
+    EXPECT_EQ(w.rows(), appended);  // the step that did not fit was not appended
     w.fail(reason);
   }
   EXPECT_NE(reason.find("file size limit"), std::string::npos) << reason;
