@@ -172,8 +172,8 @@ TEST(TrajectoryWriter, GrowsByOneChunkWhenFull) {
     w.finish();
     expectSteps(path, 31);
   }
-  // The file holds what was written, not what a run might write: 2000 rows of 4 cost ~1 MB, 20 rows
-  // a chunk of 100 rows (54 kB) and the metadata.
+  // The file holds what was written, not what a run might write: 20 rows cost a chunk of 100 rows
+  // (about 150 kB: 1.5 kB a row for n = 18, C = 4, no links) and the metadata.
   TrajectoryLayout layout = quadrupedLayout();
   TrajectoryWriter small(dir.file("small.h5"), layout);
   Step s;
@@ -181,9 +181,9 @@ TEST(TrajectoryWriter, GrowsByOneChunkWhenFull) {
     makeStep(i, s);
     appendStep(small, s);
   }
-  EXPECT_LT(std::filesystem::file_size(dir.file("small.h5")), 200u * 1024);
+  EXPECT_LT(std::filesystem::file_size(dir.file("small.h5")), 250u * 1024);
   small.finish();
-  EXPECT_LT(std::filesystem::file_size(dir.file("small.h5")), 200u * 1024);
+  EXPECT_LT(std::filesystem::file_size(dir.file("small.h5")), 250u * 1024);
 }
 
 // Between growths a commit writes raw data only, checked byte by byte: while the rows fit in the
@@ -219,6 +219,7 @@ TEST(TrajectoryWriter, NoMetadataChangesWhileRunning) {
     ASSERT_GE(f, 0);
     for (const std::string& name_text : perRowDatasets(path)) {
       const char* name = name_text.c_str();
+      if (readDataset(path, name_text).rowSize() == 0) continue;  // no links in this layout: no chunk
       const hid_t d = H5Dopen2(f, name, H5P_DEFAULT);
       const hid_t space = H5Dget_space(d);
       hsize_t chunks = 0;

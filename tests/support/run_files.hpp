@@ -109,6 +109,22 @@ inline std::set<std::string> datasetNames(const std::string& path) {
   return names;
 }
 
+// The per-row datasets of a trajectory file: every chunked dataset.
+inline std::vector<std::string> perRowDatasets(const std::string& path) {
+  std::vector<std::string> out;
+  const hid_t f = openFile(path);
+  if (f < 0) return out;
+  for (const std::string& name : datasetNames(path)) {
+    const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+    const hid_t plist = H5Dget_create_plist(d);
+    if (H5Pget_layout(plist) == H5D_CHUNKED) out.push_back(name);
+    H5Pclose(plist);
+    H5Dclose(d);
+  }
+  H5Fclose(f);
+  return out;
+}
+
 // The number of complete rows: the scalar /rows when the writer stores one, else /steps (older
 // files counted rows there), else len(/time).
 inline long completeRows(const std::string& path) {
