@@ -143,6 +143,23 @@ void expectSameConfigBut(json a, json b, std::vector<std::string> pointers) {
   EXPECT_EQ(a, b) << "the configs differ in more than the override:\n" << json::diff(a, b).dump(2);
 }
 
+// The file records which nmdp wrote it, as `nmdp --version` prints it, and every dataset its units
+// and a description.
+TEST(SimulateCli, OutputRecordsTheVersionAndDescribesEveryDataset) {
+  TempDir dir;
+  const std::string out = dir.file("version.h5");
+  runComplete({trotScene(), "--set", "duration=0.1", "--quiet"}, dir, out);
+  const CliResult version = runNmdp({"--version"}, dir);
+  ASSERT_EQ(version.exit_code, 0);
+  const h5::File file = h5::File::openRead(out);
+  const std::string v = file.readStringAttribute("/", "nmdp_version"), commit = file.readStringAttribute("/", "nmdp_commit");
+  EXPECT_EQ(version.out, "nmdp " + v + " (commit " + commit + ")\n");
+  for (const std::string& name : datasetNames(out)) {
+    EXPECT_TRUE(file.hasAttribute(name, "units") && !file.readStringAttribute(name, "units").empty()) << name;
+    EXPECT_TRUE(file.hasAttribute(name, "description") && !file.readStringAttribute(name, "description").empty()) << name;
+  }
+}
+
 TEST(SimulateCli, SwappingTheMethodIsOneSetOnly) {
   TempDir dir;
   const RunResult base = runVariant({}, dir, "default");
