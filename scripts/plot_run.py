@@ -4,14 +4,16 @@
 Usage:  scripts/plot_run.py OUT.h5 PLOT.png
 Needs Debian's python3-h5py and python3-matplotlib (scripts/install-deps.sh), hence /usr/bin/python3.
 
-Reads the layout of DESIGN.md section 11 (src/sim/trajectory_writer.hpp): /steps (the number of
-complete steps N), /time, /base/position (x 3), /status if present, and the root attribute `config`
+Reads the layout of README "Usage" (src/sim/trajectory_writer.hpp): /rows (the number of complete
+rows, the first at t = 0), /steps (the time steps they cover), /time, /base/position (x 3), /status
+if present, and the root attribute `config`
 (the resolved scene as JSON), which gives the title (robot, contact model, integrator method, dt)
 and the standing height robot.initial.height (drawn dashed, with a band of +-30 % around it) when
 it parses. The summary line gives the forward distance and the torso height range.
-Only the first /steps rows are used: a run that ended has exactly that many, a killed run keeps up
+Only the first /rows rows are used: a run that ended has exactly that many, a killed run keeps up
 to a chunk of NaN rows after them. A killed run's file is still marked by its SWMR writer and is
-opened as a SWMR reader (h5py swmr=True). Files without /steps use len(/time).
+opened as a SWMR reader (h5py swmr=True). Older files without /rows counted rows in /steps; files
+without either use len(/time).
 Exits with status 1 and a one-line message when the file is missing, not HDF5, or lacks the data.
 """
 import json
@@ -51,17 +53,17 @@ def read_run(path):
             if name not in f:
                 fail(f"{path}: dataset '/{name}' is missing (is this a file written by 'nmdp simulate'?)")
         try:
-            rows = len(f["time"])
-            if "steps" in f:
-                steps = int(f["steps"][()])
-                if not 0 <= steps <= rows:
-                    fail(f"{path}: '/steps' is {steps}, but '/time' has {rows} rows")
-            else:
-                steps = rows
-            time = np.asarray(f["time"][:steps], dtype=float).reshape(-1)
-            position = np.asarray(f["base/position"][:steps], dtype=float)
+            stored = len(f["time"])
+            counter = "rows" if "rows" in f else "steps" if "steps" in f else None
+            rows = int(f[counter][()]) if counter else stored
+            if not 0 <= rows <= stored:
+                fail(f"{path}: '/{counter}' is {rows}, but '/time' has {stored} rows")
+            # Time steps of dt the rows cover; older files (rows in /steps) were written every step.
+            steps = int(f["steps"][()]) if counter == "rows" else max(rows - 1, 0)
+            time = np.asarray(f["time"][:rows], dtype=float).reshape(-1)
+            position = np.asarray(f["base/position"][:rows], dtype=float)
         except (OSError, ValueError, TypeError) as e:
-            fail(f"{path}: cannot read '/steps', '/time' or '/base/position' ({e})")
+            fail(f"{path}: cannot read '/rows', '/steps', '/time' or '/base/position' ({e})")
         if position.ndim != 2 or position.shape[1] != 3 or position.shape[0] < len(time):
             fail(f"{path}: '/base/position' is {position.shape}, expected at least {len(time)} x 3 rows")
         status = text(f["status"][()]) if "status" in f else None
@@ -72,7 +74,7 @@ def read_run(path):
             config = json.loads(text(attributes["config"]))
         except (ValueError, TypeError):
             config = None  # a title without it is still a plot
-    return time, position[: len(time)], status, config, attributes
+    return time, position[: len(time)], steps, status, config, attributes
 
 
 def title_for(path, config, attributes, status):
@@ -117,7 +119,7 @@ def main(argv):
         print(__doc__.strip().splitlines()[2], file=sys.stderr)
         return 2 if len(argv) != 2 else 0
     run_path, png_path = argv[1], argv[2]
-    time, position, status, config, attributes = read_run(run_path)
+    time, position, steps, status, config, attributes = read_run(run_path)
     if len(time) == 0:
         fail(f"{run_path}: the run has no steps (status: {status or 'unknown'})")
 
@@ -153,7 +155,7 @@ def main(argv):
     height = f"torso height {position[:, 2].min():.3f} .. {position[:, 2].max():.3f} m"
     if standing is not None:
         height += f" ({position[:, 2].min() / standing:.2f} .. {position[:, 2].max() / standing:.2f} of standing {standing:.3f} m)"
-    print(f"wrote {png_path}: {len(time)} steps, t = {time[0]:g} .. {time[-1]:g} s; "
+    print(f"wrote {png_path}: {steps} steps ({len(time)} rows), t = {time[0]:g} .. {time[-1]:g} s; "
           f"forward distance {position[-1, 0] - position[0, 0]:+.3f} m; {height}")
     return 0
 

@@ -36,7 +36,7 @@ CASES = [
 
 def measure(path):
     with h5py.File(path, "r") as f:
-        n = int(f["steps"][()]) if "steps" in f else len(f["time"])
+        n = int(f["rows"][()]) if "rows" in f else int(f["steps"][()]) if "steps" in f else len(f["time"])
         pos = np.asarray(f["base/position"][:n], float)
         yaw = np.unwrap(np.asarray(f["base/rpy"][:n, 2], float))
         roll_max = float(np.max(np.abs(f["base/rpy"][:n, 0])))

@@ -63,7 +63,7 @@ def load_run(path):
     except OSError:
         f = h5py.File(path, "r", swmr=True)
     with f:
-        n = int(f["steps"][()]) if "steps" in f else len(f["time"])
+        n = int(f["rows"][()]) if "rows" in f else int(f["steps"][()]) if "steps" in f else len(f["time"])
         d = dict(time=np.asarray(f["time"][:n], float), pos=np.asarray(f["base/position"][:n], float),
                  rpy=np.asarray(f["base/rpy"][:n], float), status=_text(f["status"][()]) if "status" in f else "unknown",
                  config=json.loads(_text(f.attrs["config"])) if "config" in f.attrs else {})

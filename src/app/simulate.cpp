@@ -14,6 +14,7 @@
 #include <iostream>
 #include <stdexcept>
 
+#include "app/build_version.hpp"
 #include "app/commands.hpp"
 #include "app/progress_bar.hpp"
 #include "app/stop_signals.hpp"
@@ -22,6 +23,8 @@
 #include "io/output_path.hpp"
 #include "sim/scene.hpp"
 #include "sim/simulation.hpp"
+#include "sim/step_quantities.hpp"
+#include "sim/trajectory_layout.hpp"
 #include "sim/trajectory_recorder.hpp"
 #include "sim/trajectory_writer.hpp"
 
@@ -30,10 +33,11 @@ namespace nmdp::app {
 const char* const kSimulateHelp =
     "usage: nmdp simulate SCENE.json [--set key.path=value ...] [--out FILE.h5] [--quiet]\n"
     "\n"
-    "Simulates the scene and writes the run to HDF5 as it goes (layout: DESIGN.md 11; /steps is the\n"
-    "number of rows, each a completed step; a killed run keeps NaN rows after them and opens with\n"
-    "h5py.File(path, 'r', swmr=True)). Scene keys: robot, contacts, terrain, integrator, controller,\n"
-    "duration, output; everything but robot.urdf has a default (see README). Paths in a scene are\n"
+    "Simulates the scene and writes the run to HDF5 as it goes (layout: README \"Usage\"; /rows is the\n"
+    "number of complete rows, the first at t = 0, /steps the time steps they cover; a killed run keeps\n"
+    "NaN rows after them and opens with h5py.File(path, 'r', swmr=True)). Scene keys: robot,\n"
+    "contacts, terrain, integrator, controller, duration, output; everything but robot.urdf has a\n"
+    "default (see README). Paths in a scene are\n"
     "relative to it. The output never replaces an input of the run or a file nmdp did not write.\n"
     "\n"
     "  --set key.path=value  override one key, e.g. --set integrator.method=ne-zopgm\n"
@@ -187,7 +191,10 @@ int runSimulate(const Args& args) {
   Simulation sim = buildSimulation(config, std::move(robot), ContactModelRegistry::withBuiltins());
   if (stop.received()) return interruptedWhile("building the simulation");
 
-  TrajectoryWriter writer(config.output_file, trajectoryLayout(sim));  // its first chunk only: it grows as the run goes
+  TrajectoryLayout layout = trajectoryLayout(sim);
+  layout.string_attributes["nmdp_version"] = buildVersion().version;
+  layout.string_attributes["nmdp_commit"] = buildVersion().commit;
+  TrajectoryWriter writer(config.output_file, layout);  // its first chunk only: it grows as the run goes
   TrajectoryRecorder recorder(writer, sim);
   ProgressBar bar(stderr, config.duration, ProgressBar::shouldShow(stderr, opt.quiet));
   const auto start = std::chrono::steady_clock::now();
@@ -199,7 +206,7 @@ int runSimulate(const Args& args) {
   const Ending end = runSteps(sim, recorder, stop);
   bar.finish();
   const double wall = elapsed();
-  const long done = recorder.completedSteps(), rows = writer.steps();
+  const long done = recorder.completedSteps(), rows = writer.rows();
   if (end.early()) {
     if (!end.failure.empty())
       writer.fail(end.failure);

@@ -97,6 +97,26 @@ Eigen::MatrixXd File::readMatrix(const std::string& dataset, std::int64_t max_va
   return m;
 }
 
+std::string File::readText(const std::string& dataset) const {
+  if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
+  Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
+  if (d.id < 0) fail(path_, "cannot open dataset '" + dataset + "'");
+  Handle space{H5Dget_space(d.id), H5Sclose};
+  Handle stored{H5Dget_type(d.id), H5Tclose};
+  if (H5Sget_simple_extent_type(space.id) != H5S_SCALAR || H5Tget_class(stored.id) != H5T_STRING ||
+      H5Tis_variable_str(stored.id) <= 0)
+    fail(path_, "dataset '" + dataset + "' is not a scalar variable-length string");
+  Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+  H5Tset_size(type.id, H5T_VARIABLE);
+  H5Tset_cset(type.id, H5T_CSET_UTF8);
+  char* raw = nullptr;
+  if (H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &raw) < 0) fail(path_, "cannot read dataset '" + dataset + "'");
+  std::string out(raw ? raw : "");
+  H5Dvlen_reclaim(type.id, space.id, H5P_DEFAULT, &raw);
+  if (out.size() > kMaxStringBytes) fail(path_, "dataset '" + dataset + "' holds more than " + std::to_string(kMaxStringBytes) + " bytes of text");
+  return out;
+}
+
 std::vector<std::string> File::readStrings(const std::string& dataset) const {
   if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
   Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};

@@ -31,6 +31,8 @@ class File {
   // file cannot make it allocate more (the default is limits::kMaxArrayEntries).
   Eigen::MatrixXd readMatrix(const std::string& dataset, std::int64_t max_values = -1) const;
   std::vector<std::string> readStrings(const std::string& dataset) const;
+  // A scalar variable-length string dataset (e.g. a trajectory's /model/urdf).
+  std::string readText(const std::string& dataset) const;
   std::string readStringAttribute(const std::string& object, const std::string& name) const;
   double readDoubleAttribute(const std::string& object, const std::string& name) const;
   bool hasAttribute(const std::string& object, const std::string& name) const;

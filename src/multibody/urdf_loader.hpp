@@ -19,6 +19,10 @@ struct UrdfOptions {
 // exist, or a movable joint that moves no mass or inertia.
 Model loadUrdf(const std::string& path, const UrdfOptions& options = {});
 
-BaseType parseBaseType(const std::string& name);  // throws InputError listing valid names
+BaseType parseBaseType(const std::string& name);
+
+// A URDF <mesh filename="..."> resolved as loadUrdf resolves it (package:// and relative paths
+// against the URDF's folder and its parents): an absolute path, or "" when no such file exists.
+std::string resolveUrdfMesh(const std::string& filename, const std::string& urdf_path);  // throws InputError listing valid names
 
 }  // namespace nmdp

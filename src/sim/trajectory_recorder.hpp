@@ -1,6 +1,7 @@
 // The trajectory writer's hook on a Simulation (sim/simulation.hpp): records a run into a
-// TrajectoryWriter as `nmdp simulate` writes it. The initial state is the first row, then every
-// output.every-th completed step and the last scheduled one. A run that ends early (a step that
+// TrajectoryWriter as `nmdp simulate` writes it. The initial state is the first row (step 0), then
+// every output.every-th completed step and the last scheduled one, each with the quantities of
+// sim/step_quantities.hpp and its step number (/steps of the file: the last row's). A run that ends early (a step that
 // fails or is interrupted, a full disk) ends with its last completed step as the last row, never
 // with the state a failed step left.
 //
@@ -14,15 +15,11 @@
 #include <Eigen/Core>
 #include <vector>
 
-#include "multibody/data.hpp"
 #include "sim/simulation.hpp"
+#include "sim/step_quantities.hpp"
 #include "sim/trajectory_writer.hpp"
 
 namespace nmdp {
-
-// The output layout of a run: joint and contact names, the resolved scene as `config`, and the
-// robot, method, contact model, terrain, dt and duration as root attributes.
-TrajectoryLayout trajectoryLayout(const Simulation& sim);
 
 class TrajectoryRecorder {
  public:
@@ -39,23 +36,14 @@ class TrajectoryRecorder {
   double lastTime() const { return last_.time; }  // s, of the last completed step
 
  private:
-  // The last completed step, kept while it is not yet a row (output.every > 1).
-  struct Step {
-    double time = 0.0;
-    Eigen::VectorXd q, qd;
-    Mat3 base_chart = Mat3::Identity();
-    std::vector<Vec6> wrench;
-    StepStats stats;
-  };
   void keep(const Simulation& sim, const StepStats& stats);
   void record();
 
   TrajectoryWriter& writer_;
-  const Model& model_;
-  Data pose_data_;
+  StepQuantities quantities_;
   long every_, scheduled_;
   long completed_ = 0;
-  Step last_;
+  TrajectoryRow last_;  // the last completed step, kept while it is not yet a row (output.every > 1)
   bool recorded_ = false;
 };
 

@@ -28,6 +28,26 @@ hid_t variableString() {
   return type;
 }
 
+// A scalar UTF-8 string attribute of `object`; false on failure.
+bool writeStringAttribute(hid_t object, const std::string& name, const std::string& value) {
+  Handle type{variableString(), H5Tclose};
+  Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+  Handle a{H5Acreate2(object, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  const char* raw = value.c_str();
+  return a.id >= 0 && H5Awrite(a.id, type.id, &raw) >= 0;
+}
+
+// A 1-D UTF-8 string array attribute of `object`; false on failure.
+bool writeStringArrayAttribute(hid_t object, const std::string& name, const std::vector<std::string>& values) {
+  const hsize_t dims[1] = {values.size()};
+  Handle type{variableString(), H5Tclose};
+  Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
+  Handle a{H5Acreate2(object, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+  std::vector<const char*> raw;
+  for (const std::string& v : values) raw.push_back(v.c_str());
+  return a.id >= 0 && (raw.empty() || H5Awrite(a.id, type.id, raw.data()) >= 0);
+}
+
 std::string megabytes(long long bytes) {
   char text[32];
   std::snprintf(text, sizeof text, "%.3g MB", static_cast<double>(bytes) * 1e-6);
@@ -53,6 +73,165 @@ std::string spaceShortage(const std::string& folder, long long file_size, long l
            ", and the file of " + megabytes(file_size) + " needs " + megabytes(bytes + reserve) + " more";
   return "";
 }
+
+// The per-row datasets: one table, so that every dataset has its shape, units, description and
+// frame in one place (README "Usage" shows the same table).
+enum class ColumnType { kF64, kI32, kU8 };
+enum class Shape { kScalar, kDof, kThree, kFour, kContacts, kContacts3, kContacts6, kContactsF, kLinks3, kLinks4 };
+// How the units are found: one string for every column, or per column from the layout.
+enum class UnitKind { kFixed, kCoordinate, kRate, kForce, kWrench, kFeatures };
+
+struct ColumnSpec {
+  const char* path;
+  ColumnType type;
+  Shape shape;
+  UnitKind unit_kind;
+  const char* units;  // kFixed
+  const char* frame;  // "" when the dataset has none
+  const char* description;
+  const void* (*source)(const TrajectoryRow&);
+};
+
+const ColumnSpec kColumns[] = {
+    {"/time", ColumnType::kF64, Shape::kScalar, UnitKind::kFixed, "s", "",
+     "Simulated time of the row.", [](const TrajectoryRow& r) -> const void* { return &r.time; }},
+    {"/q", ColumnType::kF64, Shape::kDof, UnitKind::kCoordinate, "", "",
+     "Generalized coordinates (/joint_names): a floating base's x, y, z (world) and its chart angles "
+     "base_chart_x/y/z (orientation C·Rx(a)·Ry(b)·Rz(c), C in /base/chart; not /base/rpy), then the joints.",
+     [](const TrajectoryRow& r) -> const void* { return r.q.data(); }},
+    {"/qdot", ColumnType::kF64, Shape::kDof, UnitKind::kRate, "", "",
+     "Generalized velocities: the time derivatives of /q's columns (the base's angle rates in the row's chart).",
+     [](const TrajectoryRow& r) -> const void* { return r.qdot.data(); }},
+    {"/base/position", ColumnType::kF64, Shape::kThree, UnitKind::kFixed, "m", "world",
+     "Position of the root link's frame (the trunk).",
+     [](const TrajectoryRow& r) -> const void* { return r.base_position.data(); }},
+    {"/base/rpy", ColumnType::kF64, Shape::kThree, UnitKind::kFixed, "rad", "world",
+     "Roll, pitch, yaw of the root link's orientation, R = Rz(yaw)·Ry(pitch)·Rx(roll) (ZYX); not /q's chart angles.",
+     [](const TrajectoryRow& r) -> const void* { return r.base_rpy.data(); }},
+    {"/base/quaternion", ColumnType::kF64, Shape::kFour, UnitKind::kFixed, "1", "world",
+     "Unit quaternion (x, y, z, w) of the root link's orientation, the rotation /base/rpy describes.",
+     [](const TrajectoryRow& r) -> const void* { return r.base_quaternion.data(); }},
+    {"/base/chart", ColumnType::kF64, Shape::kFour, UnitKind::kFixed, "1", "world",
+     "Unit quaternion (x, y, z, w) of the floating base's chart C: the base body's orientation is "
+     "C·Rx(a)·Ry(b)·Rz(c) with (a, b, c) the base_chart_x/y/z columns of /q (identity for other bases).",
+     [](const TrajectoryRow& r) -> const void* { return r.base_chart.data(); }},
+    {"/contacts/wrench", ColumnType::kF64, Shape::kContacts6, UnitKind::kWrench, "", "world",
+     "[torque about the foot sphere's centre (/contacts/foot_point); force] each contact applied to the robot, "
+     "averaged over the sub-steps of the step that ended at the row (0 in the first row).",
+     [](const TrajectoryRow& r) -> const void* { return r.wrench.data(); }},
+    {"/contacts/foot_point", ColumnType::kF64, Shape::kContacts3, UnitKind::kFixed, "m", "world",
+     "Centre of each contact's foot sphere: the point the wrench's torque is about.",
+     [](const TrajectoryRow& r) -> const void* { return r.foot_point.data(); }},
+    {"/contacts/signed_distance", ColumnType::kF64, Shape::kContacts, UnitKind::kFixed, "m", "",
+     "Signed distance of each foot sphere to the terrain, phi(centre) - radius (negative: below the surface).",
+     [](const TrajectoryRow& r) -> const void* { return r.signed_distance.data(); }},
+    {"/contacts/features", ColumnType::kF64, Shape::kContactsF, UnitKind::kFeatures, "", "",
+     "What the contact model reads at each contact (ContactModel::features), one column per attribute "
+     "`names` entry, in the units of `column_units`.",
+     [](const TrajectoryRow& r) -> const void* { return r.features.data(); }},
+    {"/joints/torque", ColumnType::kF64, Shape::kDof, UnitKind::kForce, "", "",
+     "Generalized force the actuators applied, torque_pd + torque_feedforward (0 on base coordinates).",
+     [](const TrajectoryRow& r) -> const void* { return r.torque.data(); }},
+    {"/joints/torque_pd", ColumnType::kF64, Shape::kDof, UnitKind::kForce, "", "",
+     "Stable PD torque -Kp (q - q_target) - Kd (qdot - qdot_target) at the row's q, qdot and targets with the "
+     "config's gains: what the solver applied in the step's last sub-step (the whole step when it took one).",
+     [](const TrajectoryRow& r) -> const void* { return r.torque_pd.data(); }},
+    {"/joints/torque_feedforward", ColumnType::kF64, Shape::kDof, UnitKind::kForce, "", "",
+     "Feed-forward torque of the PD law (controller.tau_ff, or set from Python; 0 on base coordinates).",
+     [](const TrajectoryRow& r) -> const void* { return r.torque_feedforward.data(); }},
+    {"/joints/q_target", ColumnType::kF64, Shape::kDof, UnitKind::kCoordinate, "", "",
+     "PD position target at the row's time (NaN on unactuated coordinates).",
+     [](const TrajectoryRow& r) -> const void* { return r.q_target.data(); }},
+    {"/joints/qdot_target", ColumnType::kF64, Shape::kDof, UnitKind::kRate, "", "",
+     "PD velocity target at the row's time (NaN on unactuated coordinates).",
+     [](const TrajectoryRow& r) -> const void* { return r.qdot_target.data(); }},
+    {"/energy/kinetic", ColumnType::kF64, Shape::kScalar, UnitKind::kFixed, "J", "",
+     "Kinetic energy of the robot, 1/2 qdot' M(q) qdot.",
+     [](const TrajectoryRow& r) -> const void* { return &r.kinetic_energy; }},
+    {"/energy/potential", ColumnType::kF64, Shape::kScalar, UnitKind::kFixed, "J", "",
+     "Gravitational potential energy -sum m g.c over the robot's bodies (c their centres of mass): zero when "
+     "every centre of mass is at z = 0.",
+     [](const TrajectoryRow& r) -> const void* { return &r.potential_energy; }},
+    {"/links/position", ColumnType::kF64, Shape::kLinks3, UnitKind::kFixed, "m", "world",
+     "Origin of every URDF link's frame (/links/names).",
+     [](const TrajectoryRow& r) -> const void* { return r.link_position.data(); }},
+    {"/links/quaternion", ColumnType::kF64, Shape::kLinks4, UnitKind::kFixed, "1", "world",
+     "Unit quaternion (x, y, z, w) of every URDF link frame's orientation (/links/names).",
+     [](const TrajectoryRow& r) -> const void* { return r.link_quaternion.data(); }},
+    {"/stats/outer_iterations", ColumnType::kI32, Shape::kScalar, UnitKind::kFixed, "1", "",
+     "Outer iterations of the step's solver, summed over its sub-steps and failed attempts.",
+     [](const TrajectoryRow& r) -> const void* { return &r.stats.outer_iterations; }},
+    {"/stats/g_evaluations", ColumnType::kI32, Shape::kScalar, UnitKind::kFixed, "1", "",
+     "Evaluations of the step's residual G (with its Jacobian counting as another).",
+     [](const TrajectoryRow& r) -> const void* { return &r.stats.g_evaluations; }},
+    {"/stats/substeps", ColumnType::kI32, Shape::kScalar, UnitKind::kFixed, "1", "",
+     "Accepted sub-steps of the step (1: no split).",
+     [](const TrajectoryRow& r) -> const void* { return &r.stats.substeps; }},
+    {"/stats/min_substep", ColumnType::kF64, Shape::kScalar, UnitKind::kFixed, "s", "",
+     "Smallest accepted sub-step of the step.",
+     [](const TrajectoryRow& r) -> const void* { return &r.stats.min_substep; }},
+    {"/stats/wall_time", ColumnType::kF64, Shape::kScalar, UnitKind::kFixed, "s", "",
+     "Wall-clock time the step took.", [](const TrajectoryRow& r) -> const void* { return &r.stats.wall_time; }},
+    {"/stats/error_estimate", ColumnType::kF64, Shape::kScalar, UnitKind::kFixed, "1", "",
+     "Error control's largest normalized local error of the step's sub-steps (0 with integrator.accuracy off).",
+     [](const TrajectoryRow& r) -> const void* { return &r.stats.error_estimate; }},
+    {"/stats/converged", ColumnType::kU8, Shape::kScalar, UnitKind::kFixed, "1", "",
+     "1 if the step converged (every stored step did), else 0.",
+     [](const TrajectoryRow& r) -> const void* { return &r.stats.converged; }},
+};
+constexpr int kColumnCount = static_cast<int>(sizeof kColumns / sizeof kColumns[0]);
+static_assert(sizeof(bool) == 1, "/stats/converged stores StepStats::converged's byte");
+
+// Rank and the dimensions after the rows.
+struct ColumnDims {
+  int rank;
+  unsigned long long d1, d2;
+};
+ColumnDims columnDims(Shape shape, int n, int C, int F, int L) {
+  const auto u = [](int v) { return static_cast<unsigned long long>(v); };
+  switch (shape) {
+    case Shape::kScalar: return {1, 0, 0};
+    case Shape::kDof: return {2, u(n), 0};
+    case Shape::kThree: return {2, 3, 0};
+    case Shape::kFour: return {2, 4, 0};
+    case Shape::kContacts: return {2, u(C), 0};
+    case Shape::kContacts3: return {3, u(C), 3};
+    case Shape::kContacts6: return {3, u(C), 6};
+    case Shape::kContactsF: return {3, u(C), u(F)};
+    case Shape::kLinks3: return {3, u(L), 3};
+    case Shape::kLinks4: return {3, u(L), 4};
+  }
+  return {1, 0, 0};
+}
+size_t elementBytes(ColumnType type) { return type == ColumnType::kF64 ? 8 : type == ColumnType::kI32 ? 4 : 1; }
+
+// Per column units where they differ (empty: `units` alone), and the summary `units`.
+std::vector<std::string> columnUnits(const ColumnSpec& spec, const TrajectoryLayout& layout, int n) {
+  std::vector<std::string> units;
+  auto coordinate = [&](int j) {
+    return layout.coordinate_units.empty() ? std::string("1") : layout.coordinate_units[static_cast<size_t>(j)];
+  };
+  switch (spec.unit_kind) {
+    case UnitKind::kFixed: break;
+    case UnitKind::kCoordinate:
+      for (int j = 0; j < n; ++j) units.push_back(coordinate(j));
+      break;
+    case UnitKind::kRate:
+      for (int j = 0; j < n; ++j) units.push_back(coordinate(j) + "/s");
+      break;
+    case UnitKind::kForce:
+      for (int j = 0; j < n; ++j) units.push_back(coordinate(j) == "m" ? "N" : coordinate(j) == "rad" ? "N m" : "1");
+      break;
+    case UnitKind::kWrench: units = {"N m", "N m", "N m", "N", "N", "N"}; break;
+    case UnitKind::kFeatures: units = layout.feature_units; break;
+  }
+  return units;
+}
+std::string joined(const std::vector<std::string>& parts) {
+  std::string out;
+  for (const std::string& p : parts) out += (out.empty() ? "" : ", ") + p;
+  return out.empty() ? "1" : out;
+}
 }  // namespace
 
 void TrajectoryWriter::error(const std::string& what) const { throw InputError(path_ + ": " + what); }
@@ -62,6 +241,13 @@ namespace {
 void checkLayout(const TrajectoryLayout& layout) {
   if (layout.flush_every < 1) throw std::invalid_argument("TrajectoryLayout::flush_every must be >= 1");
   if (layout.chunk_rows < 1) throw std::invalid_argument("TrajectoryLayout::chunk_rows must be >= 1");
+  if (!layout.coordinate_units.empty() && layout.coordinate_units.size() != layout.joint_names.size())
+    throw std::invalid_argument("TrajectoryLayout::coordinate_units must be empty or one per joint name");
+  if (layout.feature_names.empty() || layout.feature_units.size() != layout.feature_names.size() ||
+      layout.feature_descriptions.size() != layout.feature_names.size())
+    throw std::invalid_argument("TrajectoryLayout: feature names, units and descriptions must be one per feature (at least one)");
+  if (layout.mesh_paths.size() != layout.mesh_files.size())
+    throw std::invalid_argument("TrajectoryLayout: mesh_paths must be one per mesh file");
   for (const auto& [name, value] : layout.string_attributes)
     if (name == "config" || name == "nmdp_output")
       throw std::invalid_argument("TrajectoryLayout: the attribute '" + name + "' is reserved");
@@ -75,19 +261,23 @@ TrajectoryWriter::TrajectoryWriter(const std::string& path, const TrajectoryLayo
     : path_(path),
       n_(static_cast<int>(layout.joint_names.size())),
       C_(static_cast<int>(layout.contact_names.size())),
+      F_(static_cast<int>(layout.feature_names.size())),
+      L_(static_cast<int>(layout.link_names.size())),
       flush_every_(layout.flush_every),
       flush_interval_(layout.flush_interval),
       chunk_rows_(layout.chunk_rows) {
   checkLayout(layout);
+  data_.resize(kColumnCount);
+  partial_row_.resize(layout);
   prepareFolder(layout);
   const std::string partial = createPartialFile();
   try {
-    createColumns();
+    createColumns(layout);
     extent_ = layout.chunk_rows;
     writeDescription(layout);
     createStatusDatasets();
     writeStatus("running");
-    writeSteps(0);
+    writeCounters(0, 0);
     // From here on HDF5 orders its metadata writes so that the file is valid whenever it stops
     // (the header comment); it flushes everything first.
     if (H5Fstart_swmr_write(file_) < 0) error("cannot start writing in SWMR mode (disk full?)");
@@ -118,12 +308,18 @@ void TrajectoryWriter::prepareFolder(const TrajectoryLayout& layout) {
     error("cannot create the trajectory file: the folder " + parent.string() + " does not exist");
   if (fs::is_directory(path_, ec)) error("cannot create the trajectory file: a folder of that name exists");
   folder_ = parent.string();
-  // One chunk of every per-step dataset: time, q, qdot, base position and rpy, wrench, 3 int32
-  // stats, 2 float64 stats, converged.
-  chunk_bytes_ = static_cast<long long>(chunk_rows_) * (8 + 16LL * n_ + 48 + 48LL * C_ + 12 + 16 + 1);
+  // One chunk of every per-step dataset.
+  long long row_bytes = 0;
+  for (const ColumnSpec& spec : kColumns) {
+    const ColumnDims dims = columnDims(spec.shape, n_, C_, F_, L_);
+    row_bytes += static_cast<long long>(elementBytes(spec.type) * (dims.rank > 1 ? dims.d1 : 1) * (dims.rank > 2 ? dims.d2 : 1));
+  }
+  chunk_bytes_ = static_cast<long long>(chunk_rows_) * row_bytes;
   // The metadata written with the first chunk (groups, names, attributes, the chunk indexes): a
   // generous bound, so that a file that starts always ends.
-  const long long first_metadata = 64 * 1024 + 2 * static_cast<long long>(layout.config_json.size());
+  const long long first_metadata = 64 * 1024 + 2 * static_cast<long long>(layout.config_json.size() +
+                                                                          layout.urdf_text.size() +
+                                                                          layout.terrain_description.size());
   if (const std::string shortage = spaceShortage(folder_, 0, chunk_bytes_ + first_metadata, kSpaceReserve);
       !shortage.empty())
     throw OutOfSpace(path_ + ": cannot start the run: " + shortage);
@@ -187,29 +383,41 @@ void TrajectoryWriter::createColumn(Column& c, const char* name, long long file_
   c.rows.assign(c.row_bytes * static_cast<size_t>(flush_every_), 0);
 }
 
-void TrajectoryWriter::createColumns() {
-  for (const char* g : {"/base", "/contacts", "/stats"}) {
+void TrajectoryWriter::createColumns(const TrajectoryLayout& layout) {
+  for (const char* g : {"/base", "/contacts", "/joints", "/energy", "/links", "/stats", "/model", "/terrain"}) {
     Handle group{H5Gcreate2(file_, g, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Gclose};
     if (group.id < 0) error(std::string("cannot create group '") + g + "'");
   }
-  createColumn(data_[kQ], "/q", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, n_, 0);
-  createColumn(data_[kQd], "/qdot", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, n_, 0);
-  createColumn(data_[kBasePos], "/base/position", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, 3, 0);
-  createColumn(data_[kBaseRpy], "/base/rpy", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 2, 3, 0);
-  createColumn(data_[kWrench], "/contacts/wrench", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 3, C_, 6);
-  createColumn(data_[kOuter], "/stats/outer_iterations", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
-  createColumn(data_[kGEval], "/stats/g_evaluations", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
-  createColumn(data_[kSub], "/stats/substeps", H5T_STD_I32LE, H5T_NATIVE_INT, 1, 0, 0);
-  createColumn(data_[kMinSub], "/stats/min_substep", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
-  createColumn(data_[kWall], "/stats/wall_time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
-  createColumn(data_[kErr], "/stats/error_estimate", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
-  createColumn(data_[kConv], "/stats/converged", H5T_STD_U8LE, H5T_NATIVE_UINT8, 1, 0, 0);
-  createColumn(data_[kTime], "/time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 1, 0, 0);
-
+  for (int k = 0; k < kColumnCount; ++k) {
+    const ColumnSpec& spec = kColumns[k];
+    const ColumnDims dims = columnDims(spec.shape, n_, C_, F_, L_);
+    const hid_t file_type = spec.type == ColumnType::kF64   ? H5T_IEEE_F64LE
+                            : spec.type == ColumnType::kI32 ? H5T_STD_I32LE
+                                                            : H5T_STD_U8LE;
+    const hid_t mem_type = spec.type == ColumnType::kF64   ? H5T_NATIVE_DOUBLE
+                           : spec.type == ColumnType::kI32 ? H5T_NATIVE_INT
+                                                           : H5T_NATIVE_UINT8;
+    Column& c = data_[static_cast<size_t>(k)];
+    createColumn(c, spec.path, file_type, mem_type, dims.rank, dims.d1, dims.d2);
+    c.source = spec.source;
+    const std::vector<std::string> units = columnUnits(spec, layout, n_);
+    bool ok = writeStringAttribute(c.dataset, "units", units.empty() ? spec.units : joined(units)) &&
+              writeStringAttribute(c.dataset, "description", spec.description) &&
+              (units.empty() || writeStringArrayAttribute(c.dataset, "column_units", units)) &&
+              (*spec.frame == '\0' || writeStringAttribute(c.dataset, "frame", spec.frame));
+    if (ok && spec.unit_kind == UnitKind::kFeatures)
+      ok = writeStringArrayAttribute(c.dataset, "names", layout.feature_names) &&
+           writeStringArrayAttribute(c.dataset, "descriptions", layout.feature_descriptions);
+    if (!ok) error(std::string("cannot write the attributes of '") + spec.path + "'");
+  }
 }
 
 void TrajectoryWriter::writeDescription(const TrajectoryLayout& layout) {
-  auto writeNames = [&](const char* name, const std::vector<std::string>& values) {
+  auto describe = [&](hid_t d, const char* name, const std::string& description) {
+    if (!writeStringAttribute(d, "units", "1") || !writeStringAttribute(d, "description", description))
+      error(std::string("cannot write the attributes of '") + name + "'");
+  };
+  auto writeNames = [&](const char* name, const std::vector<std::string>& values, const std::string& description) {
     const hsize_t dims[1] = {values.size()};
     Handle space{H5Screate_simple(1, dims, nullptr), H5Sclose};
     Handle type{variableString(), H5Tclose};
@@ -218,20 +426,36 @@ void TrajectoryWriter::writeDescription(const TrajectoryLayout& layout) {
     Handle d{H5Dcreate2(file_, name, type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
     if (d.id < 0 || (!raw.empty() && H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, raw.data()) < 0))
       error(std::string("cannot write dataset '") + name + "'");
+    describe(d.id, name, description);
   };
-  writeNames("/joint_names", layout.joint_names);
-  writeNames("/contacts/names", layout.contact_names);
-
-  auto stringAttribute = [&](const std::string& name, const std::string& value) {
-    Handle type{variableString(), H5Tclose};
+  auto writeText = [&](const char* name, const std::string& value, const std::string& description) {
+    if (value.empty()) return;
     Handle space{H5Screate(H5S_SCALAR), H5Sclose};
-    Handle a{H5Acreate2(file_, name.c_str(), type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    Handle type{variableString(), H5Tclose};
     const char* raw = value.c_str();
-    if (a.id < 0 || H5Awrite(a.id, type.id, &raw) < 0) error("cannot write root attribute '" + name + "'");
+    Handle d{H5Dcreate2(file_, name, type.id, space.id, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+    if (d.id < 0 || H5Dwrite(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &raw) < 0)
+      error(std::string("cannot write dataset '") + name + "'");
+    describe(d.id, name, description);
   };
-  stringAttribute("config", layout.config_json);
-  stringAttribute("nmdp_output", "trajectory");
-  for (const auto& [name, value] : layout.string_attributes) stringAttribute(name, value);
+  writeNames("/joint_names", layout.joint_names, "Names of /q's columns (and of every per-coordinate dataset's).");
+  writeNames("/contacts/names", layout.contact_names, "Names of the contacts, the rows of every /contacts dataset.");
+  writeNames("/links/names", layout.link_names, "Names of the URDF links of /links/position and /links/quaternion.");
+  writeText("/model/urdf", layout.urdf_text, "The URDF text the run used.");
+  writeText("/model/urdf_path", layout.urdf_path, "The absolute path the URDF was read from.");
+  if (!layout.urdf_text.empty()) {
+    writeNames("/model/mesh_files", layout.mesh_files, "Every distinct filename of the URDF's <mesh> elements, as written there.");
+    writeNames("/model/mesh_paths", layout.mesh_paths,
+               "Each of /model/mesh_files resolved to an absolute path as the URDF loader resolves it (\"\" when not found).");
+  }
+  writeText("/terrain/description", layout.terrain_description,
+            "JSON of the resolved terrain object (a heightfield's heights inlined in place of its file), which the "
+            "scene key `terrain` accepts as it is.");
+
+  if (!writeStringAttribute(file_, "config", layout.config_json)) error("cannot write root attribute 'config'");
+  if (!writeStringAttribute(file_, "nmdp_output", "trajectory")) error("cannot write root attribute 'nmdp_output'");
+  for (const auto& [name, value] : layout.string_attributes)
+    if (!writeStringAttribute(file_, name, value)) error("cannot write root attribute '" + name + "'");
   for (const auto& [name, value] : layout.number_attributes) {
     Handle space{H5Screate(H5S_SCALAR), H5Sclose};
     Handle a{H5Acreate2(file_, name.c_str(), H5T_IEEE_F64LE, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
@@ -240,7 +464,7 @@ void TrajectoryWriter::writeDescription(const TrajectoryLayout& layout) {
 }
 
 void TrajectoryWriter::createStatusDatasets() {
-  // /status and /steps: contiguous and allocated now, so each update rewrites the same bytes in place.
+  // /status, /rows and /steps: contiguous and allocated now, so each update rewrites the same bytes in place.
   status_type_ = H5Tcopy(H5T_C_S1);
   H5Tset_size(status_type_, kStatusBytes);
   H5Tset_strpad(status_type_, H5T_STR_NULLTERM);
@@ -253,11 +477,19 @@ void TrajectoryWriter::createStatusDatasets() {
     H5Pset_obj_track_times(dcpl.id, 0);
     status_dataset_ = H5Dcreate2(file_, "/status", status_type_, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
     if (status_dataset_ < 0) error("cannot create dataset '/status'");
+    rows_dataset_ = H5Dcreate2(file_, "/rows", H5T_STD_I64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
+    if (rows_dataset_ < 0) error("cannot create dataset '/rows'");
     steps_dataset_ = H5Dcreate2(file_, "/steps", H5T_STD_I64LE, space.id, H5P_DEFAULT, dcpl.id, H5P_DEFAULT);
     if (steps_dataset_ < 0) error("cannot create dataset '/steps'");
   }
+  const std::pair<long long, const char*> described[] = {
+      {status_dataset_, "How the run ended: running (still, or killed), complete, failed: <why>, interrupted <how>."},
+      {rows_dataset_, "The number of complete rows: read the first /rows rows of every per-row dataset."},
+      {steps_dataset_, "Time steps of dt the complete rows cover (the t = 0 row is step 0)."}};
+  for (const auto& [dataset, description] : described)
+    if (!writeStringAttribute(dataset, "units", "1") || !writeStringAttribute(dataset, "description", description))
+      error("cannot write the attributes of /status, /rows or /steps");
   status_buffer_.assign(kStatusBytes, '\0');
-  wrench_buffer_.assign(static_cast<size_t>(C_) * 6, 0.0);
 }
 
 TrajectoryWriter::~TrajectoryWriter() {
@@ -277,9 +509,10 @@ void TrajectoryWriter::closeAll() noexcept {
     c.dataset = c.memspace = c.filespace = -1;
   }
   if (status_dataset_ >= 0) H5Dclose(status_dataset_);
+  if (rows_dataset_ >= 0) H5Dclose(rows_dataset_);
   if (steps_dataset_ >= 0) H5Dclose(steps_dataset_);
   if (status_type_ >= 0) H5Tclose(status_type_);
-  status_dataset_ = steps_dataset_ = status_type_ = -1;
+  status_dataset_ = rows_dataset_ = steps_dataset_ = status_type_ = -1;
   if (file_ >= 0) H5Fclose(file_);
   file_ = -1;
 }
@@ -306,33 +539,42 @@ void TrajectoryWriter::writeRows(Column& c) {
   if (status < 0) error("cannot write a trajectory row (disk full?)");
 }
 
-void TrajectoryWriter::append(double time, const Eigen::VectorXd& q, const Eigen::VectorXd& qdot,
-                              const Vec3& base_position, const Vec3& base_rpy, const std::vector<Vec6>& contact_wrench,
-                              const StepStats& stats) {
+void TrajectoryWriter::append(const TrajectoryRow& row) {
   if (file_ < 0) throw std::logic_error("TrajectoryWriter::append after finish() or fail()");
-  if (q.size() != n_ || qdot.size() != n_ || static_cast<int>(contact_wrench.size()) != C_)
-    throw std::invalid_argument("TrajectoryWriter::append: q, qdot must have " + std::to_string(n_) +
-                                " entries and contact_wrench " + std::to_string(C_));
-  if (rows_ == extent_) grow();  // before anything of this step is staged: OutOfSpace leaves no trace
-  for (int c = 0; c < C_; ++c) std::copy(contact_wrench[c].data(), contact_wrench[c].data() + 6, &wrench_buffer_[6 * c]);
-  const unsigned char converged = stats.converged ? 1 : 0;
-  stage(data_[kQ], q.data());
-  stage(data_[kQd], qdot.data());
-  stage(data_[kBasePos], base_position.data());
-  stage(data_[kBaseRpy], base_rpy.data());
-  stage(data_[kWrench], wrench_buffer_.data());
-  stage(data_[kOuter], &stats.outer_iterations);
-  stage(data_[kGEval], &stats.g_evaluations);
-  stage(data_[kSub], &stats.substeps);
-  stage(data_[kMinSub], &stats.min_substep);
-  stage(data_[kWall], &stats.wall_time);
-  stage(data_[kErr], &stats.error_estimate);
-  stage(data_[kConv], &converged);
-  stage(data_[kTime], &time);
+  const auto rowsAre = [](const auto& m, int rows, int cols) { return m.rows() == rows && m.cols() == cols; };
+  if (!rowsAre(row.q, n_, 1) || !rowsAre(row.qdot, n_, 1) || !rowsAre(row.torque, n_, 1) ||
+      !rowsAre(row.torque_pd, n_, 1) || !rowsAre(row.torque_feedforward, n_, 1) || !rowsAre(row.q_target, n_, 1) ||
+      !rowsAre(row.qdot_target, n_, 1) || !rowsAre(row.wrench, C_, 6) || !rowsAre(row.foot_point, C_, 3) ||
+      !rowsAre(row.signed_distance, C_, 1) || !rowsAre(row.features, C_, F_) || !rowsAre(row.link_position, L_, 3) ||
+      !rowsAre(row.link_quaternion, L_, 4))
+    throw std::invalid_argument("TrajectoryWriter::append: the row's sizes do not match the layout (n = " +
+                                std::to_string(n_) + ", C = " + std::to_string(C_) + ", F = " + std::to_string(F_) +
+                                ", L = " + std::to_string(L_) + "): size it with TrajectoryRow::resize");
+  if (rows_ == extent_) grow();  // before anything of this row is staged: OutOfSpace leaves no trace
+  for (Column& c : data_) stage(c, c.source(row));
   ++rows_;
+  last_step_ = row.step;
   if (++pending_ == flush_every_ ||
       std::chrono::duration<double>(std::chrono::steady_clock::now() - last_commit_).count() >= flush_interval_)
     commitPending();
+}
+
+void TrajectoryWriter::append(double time, const Eigen::VectorXd& q, const Eigen::VectorXd& qdot,
+                              const Vec3& base_position, const Vec3& base_rpy, const std::vector<Vec6>& contact_wrench,
+                              const StepStats& stats) {
+  if (q.size() != n_ || qdot.size() != n_ || static_cast<int>(contact_wrench.size()) != C_)
+    throw std::invalid_argument("TrajectoryWriter::append: q, qdot must have " + std::to_string(n_) +
+                                " entries and contact_wrench " + std::to_string(C_));
+  TrajectoryRow& row = partial_row_;
+  row.time = time;
+  row.step = rows_;
+  row.q = q;
+  row.qdot = qdot;
+  row.base_position = base_position;
+  row.base_rpy = base_rpy;
+  for (int c = 0; c < C_; ++c) row.wrench.row(c) = contact_wrench[static_cast<size_t>(c)].transpose();
+  row.stats = stats;
+  append(row);
 }
 
 void TrajectoryWriter::setExtent(long rows) {
@@ -358,23 +600,25 @@ void TrajectoryWriter::grow() {
 
 void TrajectoryWriter::commitPending() {
   for (Column& c : data_) writeRows(c);
-  flushFile();  // 1: the rows are on disk before /steps announces them
-  writeSteps(rows_);
+  flushFile();  // 1: the rows are on disk before /rows announces them
+  writeCounters(rows_, last_step_);
   pending_ = 0;
   flushFile();  // 2: the steps are committed
   last_commit_ = std::chrono::steady_clock::now();
 }
 
-void TrajectoryWriter::writeSteps(long steps) {
-  const long long value = steps;
-  if (H5Dwrite(steps_dataset_, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0)
+void TrajectoryWriter::writeCounters(long rows, long steps) {
+  const long long row_count = rows, step_count = steps;
+  if (H5Dwrite(rows_dataset_, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, &row_count) < 0)
+    error("cannot write dataset '/rows'");
+  if (H5Dwrite(steps_dataset_, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, &step_count) < 0)
     error("cannot write dataset '/steps'");
 }
 
 void TrajectoryWriter::end(const std::string& status) {
   if (pending_ > 0) commitPending();
   if (extent_ != rows_) {
-    setExtent(rows_);  // the DESIGN.md 11 layout: len(/time) == /steps
+    setExtent(rows_);  // the DESIGN.md 11 layout: len(/time) == /rows
     flushFile();
   }
   if (!status.empty()) {
@@ -432,26 +676,69 @@ std::string TrajectoryWriter::readStatus(const std::string& path) {
   return out;
 }
 
-long TrajectoryWriter::readSteps(const std::string& path) {
+namespace {
+// An int64 scalar dataset of `file`, or -1 if absent; InputError if unreadable.
+long long readCounter(hid_t file, const char* name, const std::string& path) {
+  if (H5Lexists(file, name, H5P_DEFAULT) <= 0) return -1;
+  Handle d{H5Dopen2(file, name, H5P_DEFAULT), H5Dclose};
+  long long value = -1;
+  if (d.id < 0 || H5Dread(d.id, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0 || value < 0)
+    throw InputError(path + ": cannot read dataset '" + name + "'");
+  return value;
+}
+
+// The rows of a trajectory file, and its /steps (-1 for files without /rows).
+std::pair<long, long> readRowsAndSteps(const std::string& path) {
   silenceHdf5();
-  auto fail = [&](const std::string& what) -> long { throw InputError(path + ": " + what); };
+  auto fail = [&](const std::string& what) -> std::pair<long, long> { throw InputError(path + ": " + what); };
   if (!pathExists(path)) fail("no such file");
   Handle file{h5::openReadOnly(path), H5Fclose};
   if (file.id < 0) fail("cannot open the HDF5 file");
-  if (H5Lexists(file.id, "/steps", H5P_DEFAULT) > 0) {
-    Handle d{H5Dopen2(file.id, "/steps", H5P_DEFAULT), H5Dclose};
-    long long value = -1;
-    if (d.id < 0 || H5Dread(d.id, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0 || value < 0)
-      fail("cannot read dataset '/steps'");
-    return static_cast<long>(value);
+  if (const long long rows = readCounter(file.id, "/rows", path); rows >= 0) {
+    const long long steps = readCounter(file.id, "/steps", path);
+    if (steps < 0) fail("dataset '/steps' is missing");
+    return {static_cast<long>(rows), static_cast<long>(steps)};
   }
-  if (H5Lexists(file.id, "/time", H5P_DEFAULT) <= 0) fail("neither '/steps' nor '/time' exists");
+  if (const long long rows = readCounter(file.id, "/steps", path); rows >= 0) return {static_cast<long>(rows), -1};
+  if (H5Lexists(file.id, "/time", H5P_DEFAULT) <= 0) fail("neither '/rows', '/steps' nor '/time' exists");
   Handle d{H5Dopen2(file.id, "/time", H5P_DEFAULT), H5Dclose};
   Handle space{d.id >= 0 ? H5Dget_space(d.id) : -1, H5Sclose};
   hsize_t dims[H5S_MAX_RANK] = {0};
   if (space.id < 0 || H5Sget_simple_extent_ndims(space.id) < 1 || H5Sget_simple_extent_dims(space.id, dims, nullptr) < 0)
     fail("cannot read the extent of '/time'");
-  return static_cast<long>(dims[0]);
+  return {static_cast<long>(dims[0]), -1};
+}
+}  // namespace
+
+long TrajectoryWriter::readRows(const std::string& path) { return readRowsAndSteps(path).first; }
+
+long TrajectoryWriter::readSteps(const std::string& path) {
+  const auto [rows, steps] = readRowsAndSteps(path);
+  return steps >= 0 ? steps : std::max(rows - 1, 0L);
+}
+
+void TrajectoryRow::resize(const TrajectoryLayout& layout) {
+  const Eigen::Index n = static_cast<Eigen::Index>(layout.joint_names.size());
+  const Eigen::Index C = static_cast<Eigen::Index>(layout.contact_names.size());
+  const Eigen::Index F = static_cast<Eigen::Index>(layout.feature_names.size());
+  const Eigen::Index L = static_cast<Eigen::Index>(layout.link_names.size());
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  time = nan;
+  step = 0;
+  for (Eigen::VectorXd* v : {&q, &qdot, &torque, &torque_pd, &torque_feedforward, &q_target, &qdot_target})
+    v->setConstant(n, nan);
+  base_position.setConstant(nan);
+  base_rpy.setConstant(nan);
+  base_quaternion.setConstant(nan);
+  base_chart.setConstant(nan);
+  wrench.setConstant(C, 6, nan);
+  foot_point.setConstant(C, 3, nan);
+  signed_distance.setConstant(C, nan);
+  features.setConstant(C, F, nan);
+  kinetic_energy = potential_energy = nan;
+  link_position.setConstant(L, 3, nan);
+  link_quaternion.setConstant(L, 4, nan);
+  stats = StepStats();
 }
 
 }  // namespace nmdp

@@ -7,6 +7,7 @@
 #include "common/input_error.hpp"
 #include "common/input_file.hpp"
 #include "common/json_text.hpp"
+#include "common/limits.hpp"
 #include "terrain/heightfield.hpp"
 #include "terrain/plane.hpp"
 #include "terrain/procedural.hpp"
@@ -18,7 +19,8 @@ namespace {
 
 // Every type also takes the material keys (material_config.hpp reads them); only a heightfield a map.
 const std::vector<std::string> kPlaneKeys = {"type", "normal", "offset", "patches", "blend_width"};
-const std::vector<std::string> kHeightfieldKeys = {"type", "file", "origin", "spacing", "offset", "patches", "blend_width", "material_map"};
+const std::vector<std::string> kHeightfieldKeys = {"type",   "file",    "heights",     "origin",      "spacing",
+                                                   "offset", "patches", "blend_width", "material_map"};
 const std::vector<std::string> kProceduralKeys = {"type", "slope", "offset", "hills", "patches", "blend_width"};
 const std::vector<std::string> kHillKeys = {"centre", "height", "width"};
 
@@ -71,11 +73,56 @@ std::unique_ptr<Terrain> makePlane(const nlohmann::json& config, const ConfigCon
   return std::make_unique<PlaneTerrain>(normal, offset);
 }
 
+// The heights given inline, "heights": [[row j = 0 along x], [row j = 1], ...], checked as
+// readHeightGridCsv checks a file (the same messages, naming heights[j][i] instead of line and column).
+HeightGrid inlineHeights(const nlohmann::json& config, const ConfigContext& ctx) {
+  const nlohmann::json& rows = config.at("heights");
+  const std::string where = ctx.where + ".heights";
+  if (!rows.is_array()) throw InputError(where + ": expected rows of heights [[z, ...], ...], got " + jsonForMessage(rows));
+  HeightGrid grid;
+  for (size_t j = 0; j < rows.size(); ++j) {
+    const nlohmann::json& row = rows[j];
+    const std::string at_row = where + "[" + std::to_string(j) + "]";
+    if (!row.is_array()) throw InputError(at_row + ": expected a row of heights [z, ...], got " + jsonForMessage(row));
+    for (size_t i = 0; i < row.size(); ++i) {
+      const std::string at = at_row + "[" + std::to_string(i) + "]";
+      if (static_cast<std::int64_t>(grid.z.size()) >= limits::kMaxHeightfieldCells)
+        throw InputError(at + ": more than " + std::to_string(limits::kMaxHeightfieldCells) +
+                         " heights, beyond the largest heightfield nmdp takes (4096 x 4096)");
+      if (row[i].is_null())
+        throw InputError(at + ": empty cell: holes in a heightfield are not supported, every grid node needs a finite height");
+      if (!row[i].is_number()) throw InputError(at + ": '" + jsonForMessage(row[i]) + "' is not a number");
+      const double z = row[i].get<double>();
+      if (!std::isfinite(z)) throw InputError(at + ": '" + jsonForMessage(row[i]) + "' is not a finite height");
+      grid.z.push_back(z);
+    }
+    const int columns = static_cast<int>(row.size());
+    if (j == 0) {
+      grid.nx = columns;
+    } else if (columns != grid.nx) {
+      throw InputError(at_row + ": this row has " + std::to_string(columns) + " value" + (columns == 1 ? "" : "s") +
+                       " but the first row has " + std::to_string(grid.nx) +
+                       ": every row of the grid needs the same number of values");
+    }
+    ++grid.ny;
+  }
+  if (grid.nx < 2 || grid.ny < 2)
+    throw InputError(where + ": a heightfield needs at least 2x2 values (2 rows of 2 heights), got " +
+                     (grid.ny == 0 ? std::string("none")
+                                   : std::to_string(grid.ny) + " row" + (grid.ny == 1 ? "" : "s") + " of " +
+                                         std::to_string(grid.nx)));
+  return grid;
+}
+
 std::unique_ptr<Terrain> makeHeightfield(const nlohmann::json& config, const ConfigContext& ctx) {
   requireKnownKeys(config, kHeightfieldKeys, ctx);
-  if (!config.contains("file")) fail(ctx, "file", "missing: a heightfield needs a CSV file of heights");
-  const std::string file = readString(config, "file", "", ctx);
-  if (file.empty()) fail(ctx, "file", "empty file name");
+  const bool inline_heights = config.contains("heights");
+  if (inline_heights && config.contains("file"))
+    fail(ctx, "heights", "give either a \"file\" of heights or the \"heights\" themselves, not both");
+  if (!inline_heights && !config.contains("file"))
+    fail(ctx, "file", "missing: a heightfield needs a CSV file of heights (or \"heights\": [[z, ...], ...])");
+  const std::string file = inline_heights ? std::string() : readString(config, "file", "", ctx);
+  if (!inline_heights && file.empty()) fail(ctx, "file", "empty file name");
   if (!config.contains("spacing"))
     fail(ctx, "spacing", "missing: give the grid spacing [dx, dy] in m (a number for dx = dy)");
   double dx = 1.0, dy = 1.0, x0 = 0.0, y0 = 0.0;
@@ -92,21 +139,27 @@ std::unique_ptr<Terrain> makeHeightfield(const nlohmann::json& config, const Con
   const double offset = readNumber(config, "offset", 0.0, ctx, -kMaxHeight, kMaxHeight);
 
   HeightGrid grid;
-  const std::string path = ctx.resolve(file);
-  try {
-    grid = readHeightGridCsv(path);
-  } catch (const InputError& e) {
-    fail(ctx, "file", e.what());
+  const std::string path = inline_heights ? ctx.where + ".heights" : ctx.resolve(file);
+  if (inline_heights) {
+    grid = inlineHeights(config, ctx);
+  } else {
+    try {
+      grid = readHeightGridCsv(path);
+    } catch (const InputError& e) {
+      fail(ctx, "file", e.what());
+    }
   }
   grid.x0 = x0;
   grid.y0 = y0;
   grid.dx = dx;
   grid.dy = dy;
   for (double& z : grid.z) {
-    if (std::abs(z) > kMaxHeight) fail(ctx, "file", displayPath(path) + ": a height of " + number(z) + " m is beyond 1e6 m");
+    if (std::abs(z) > kMaxHeight)
+      fail(ctx, inline_heights ? "heights" : "file",
+           (inline_heights ? std::string() : displayPath(path) + ": ") + "a height of " + number(z) + " m is beyond 1e6 m");
     z += offset;
   }
-  return std::make_unique<HeightfieldTerrain>(std::move(grid), file);
+  return std::make_unique<HeightfieldTerrain>(std::move(grid), inline_heights ? std::string() : file);
 }
 
 std::unique_ptr<Terrain> makeProcedural(const nlohmann::json& config, const ConfigContext& ctx) {

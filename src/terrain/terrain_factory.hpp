@@ -7,7 +7,8 @@
 //       heights from a CSV file (rows along y, columns along x; see readHeightGridCsv), the path
 //       relative to the configuration file's folder; node (i, j) at (x0 + i dx, y0 + j dy);
 //       "spacing" is required (a number means dx = dy), "origin" defaults to [0, 0], "offset" (m)
-//       is added to every height. Bicubic spline, clamped to the border outside the grid
+//       is added to every height; "heights": [[z, ...], ...] (rows along y) in place of "file" gives
+//       them inline (the output's /terrain/description does). Bicubic spline, clamped to the border outside the grid
 //       (HeightfieldTerrain).
 //   {"type": "procedural", "slope": [slope_x, slope_y], "offset": 0,
 //    "hills": [{"centre": [x, y], "height": h, "width": w}, ...]}

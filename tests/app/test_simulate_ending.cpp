@@ -32,7 +32,7 @@ std::string sceneFile(const std::string& name) { return sourcePath("models/scene
 // What an ended run's file must be: exactly /steps rows, each a converged, finite, completed step,
 // time strictly increasing. Returns /time.
 Eigen::VectorXd expectOnlyCompletedSteps(const std::string& path) {
-  const long steps = TrajectoryWriter::readSteps(path);
+  const long steps = TrajectoryWriter::readRows(path);
   const h5::File file = h5::File::openRead(path);
   const Eigen::VectorXd time = file.readMatrix("/time").col(0);
   EXPECT_EQ(time.size(), steps) << "a run that ended holds exactly /steps rows";
@@ -249,7 +249,7 @@ TEST(SimulateEnding, StorageGrowsWithTheRunAndAHugeRunStopsOnSigint) {
   const auto size = fs::file_size(long_out);
   ::kill(l.pid, SIGTERM);
   EXPECT_EQ(exitStatus(l, 20), 4);
-  const long rows = TrajectoryWriter::readSteps(long_out);
+  const long rows = TrajectoryWriter::readRows(long_out);
   std::cout << rows << " rows after 0.5 s, file " << size << " bytes while running, " << fs::file_size(long_out)
             << " after\n";
   EXPECT_LT(size, static_cast<std::uintmax_t>(600 * rows + (2 << 20))) << "storage was reserved ahead of the run";

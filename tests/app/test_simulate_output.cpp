@@ -35,11 +35,13 @@ TEST(SimulateCli, OutputLayoutIsDesign11AndTheFirstRowIsTheInitialState) {
   runComplete({trotScene(), "--set", "duration=0.5", "--quiet"}, dir, out);
   ASSERT_TRUE(fs::exists(out));
 
-  // Exactly the documented datasets, plus /status (and /steps, the complete-row count, if present).
-  std::set<std::string> expected_names = {"/joint_names", "/contacts/names", "/status"};
+  // Exactly the documented datasets.
+  std::set<std::string> expected_names = {"/joint_names", "/contacts/names", "/links/names", "/status", "/rows",
+                                          "/steps", "/joints/q_target", "/joints/qdot_target", "/model/urdf",
+                                          "/model/urdf_path", "/model/mesh_files", "/model/mesh_paths",
+                                          "/terrain/description"};
   for (const auto& [name, shape] : kNumericDatasets) expected_names.insert(name);
   std::set<std::string> names = datasetNames(out);
-  names.erase("/steps");
   EXPECT_EQ(names, expected_names);
 
   constexpr double dt = 0.05, duration = 0.5;
@@ -60,7 +62,8 @@ TEST(SimulateCli, OutputLayoutIsDesign11AndTheFirstRowIsTheInitialState) {
     const Dataset d = readDataset(out, name);
     ASSERT_TRUE(d.ok) << name << " missing or unreadable";
     std::vector<hsize_t> want = {static_cast<hsize_t>(N)};
-    for (long s : shape) want.push_back(static_cast<hsize_t>(s == -1 ? (name == "/contacts/wrench" ? C : n) : s));
+    const long L = static_cast<long>(file.readStrings("/links/names").size());
+    for (long s : shape) want.push_back(static_cast<hsize_t>(s == kN ? n : s == kC ? C : s == kL ? L : s == kF ? 1 : s));
     EXPECT_EQ(d.dims, want) << name << " has the wrong shape";
     EXPECT_TRUE(allFinite(d.values, d.values.size())) << name;
     data[name] = d;
@@ -138,6 +141,23 @@ void expectSameConfigBut(json a, json b, std::vector<std::string> pointers) {
     if (b.contains(ptr)) b[parent].erase(ptr.back());
   }
   EXPECT_EQ(a, b) << "the configs differ in more than the override:\n" << json::diff(a, b).dump(2);
+}
+
+// The file records which nmdp wrote it, as `nmdp --version` prints it, and every dataset its units
+// and a description.
+TEST(SimulateCli, OutputRecordsTheVersionAndDescribesEveryDataset) {
+  TempDir dir;
+  const std::string out = dir.file("version.h5");
+  runComplete({trotScene(), "--set", "duration=0.1", "--quiet"}, dir, out);
+  const CliResult version = runNmdp({"--version"}, dir);
+  ASSERT_EQ(version.exit_code, 0);
+  const h5::File file = h5::File::openRead(out);
+  const std::string v = file.readStringAttribute("/", "nmdp_version"), commit = file.readStringAttribute("/", "nmdp_commit");
+  EXPECT_EQ(version.out, "nmdp " + v + " (commit " + commit + ")\n");
+  for (const std::string& name : datasetNames(out)) {
+    EXPECT_TRUE(file.hasAttribute(name, "units") && !file.readStringAttribute(name, "units").empty()) << name;
+    EXPECT_TRUE(file.hasAttribute(name, "description") && !file.readStringAttribute(name, "description").empty()) << name;
+  }
 }
 
 TEST(SimulateCli, SwappingTheMethodIsOneSetOnly) {

@@ -67,7 +67,7 @@ def read_run(path):
     """The rows of an nmdp output file: {"time", "q", "qdot", "wrench", "outer_iterations", ...} as arrays."""
     h5py = pytest.importorskip("h5py")
     with h5py.File(path, "r") as f:
-        n = int(f["steps"][()])
+        n = int(f["rows"][()]) if "rows" in f else int(f["steps"][()])
         return {"time": f["time"][:n], "q": f["q"][:n], "qdot": f["qdot"][:n],
                 "wrench": f["contacts/wrench"][:n], "contact_names": [s.decode() if isinstance(s, bytes) else s for s in f["contacts/names"][:]],
                 "joint_names": [s.decode() if isinstance(s, bytes) else s for s in f["joint_names"][:]],

@@ -56,7 +56,7 @@ def test_every_run_has_its_file_and_an_index_row_that_matches_it(finished):
             assert row[key] == ("" if key not in run.overrides else index._cell(run.overrides[key]))
         with h5py.File(out / row["file"], "r") as f:
             assert f["status"][()].rstrip(b"\0") == b"complete"
-            steps = int(f["steps"][()])
+            steps = int(f["rows"][()])
             assert float(row["x"]) == f["base/position"][steps - 1, 0]
             assert float(row["z"]) == f["base/position"][steps - 1, 2]
             assert float(row["yaw"]) == f["base/rpy"][steps - 1, 2]

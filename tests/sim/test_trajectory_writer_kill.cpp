@@ -47,7 +47,7 @@ long runAndKill(const std::string& path, int flush_every, int chunk_rows, long m
       for (long i = 0; i < kKillSteps; ++i) {
         makeStep(i, s);
         appendStep(w, s);
-        const long committed = w.committedSteps();  // steps guaranteed on disk
+        const long committed = w.committedRows();  // steps guaranteed on disk
         if (::write(fds[1], &committed, sizeof committed) < 0) {
         }  // a full pipe just drops reports
       }
@@ -82,7 +82,7 @@ TEST(TrajectoryWriter, SigkillLeavesAReadableFileWithEveryCommittedStep) {
   const long reported = runAndKill(path, 1, chunk_rows, 25, 3000);
   ASSERT_GE(reported, 25);
   EXPECT_EQ(TrajectoryWriter::readStatus(path), "running");
-  const long rows = TrajectoryWriter::readSteps(path);
+  const long rows = TrajectoryWriter::readRows(path);
   EXPECT_GE(rows, reported);
   // The file grew with the run: at most the chunk being filled and the one a growth was adding.
   const long extent = h5::File::openRead(path).readMatrix("/time").rows();
@@ -117,7 +117,7 @@ TEST(TrajectoryWriter, RepeatedSigkillsAtRandomMoments) {
     [&] {
       ASSERT_GE(reported, 10);
       ASSERT_EQ(TrajectoryWriter::readStatus(path), "running");
-      const long rows = TrajectoryWriter::readSteps(path);
+      const long rows = TrajectoryWriter::readRows(path);
       ASSERT_GE(rows, reported);
       expectSteps(path, rows, Extent::kReserved, flush_every);
       const long extent = datasetInfo(path, "/time").dims.at(0);

@@ -38,7 +38,7 @@ class FileSizeLimit {
 TEST(TrajectoryWriter, RefusesToStartWhenTheFirstChunkDoesNotFit) {
   TempDir dir;
   TrajectoryLayout layout = quadrupedLayout();
-  layout.chunk_rows = 1000;  // 541 kB
+  layout.chunk_rows = 1000;  // 1.5 MB
   std::string message;
   {
     FileSizeLimit limit(1 << 20);  // less than the chunk and the reserve kept for ending a run
@@ -54,11 +54,11 @@ TEST(TrajectoryWriter, AChunkThatDoesNotFitEndsTheRunWithEveryStepKept) {
   TempDir dir;
   const std::string path = dir.file("run.h5");
   TrajectoryLayout layout = quadrupedLayout();
-  layout.chunk_rows = 200;  // 108 kB
+  layout.chunk_rows = 200;  // 307 kB
   long appended = 0;
   std::string reason;
   {
-    FileSizeLimit limit(TrajectoryWriter::kSpaceReserve + 600 * 1024);  // a few chunks
+    FileSizeLimit limit(TrajectoryWriter::kSpaceReserve + 1500 * 1024);  // a few chunks
     TrajectoryWriter w(path, layout);
     Step s;
     try {
@@ -69,7 +69,7 @@ TEST(TrajectoryWriter, AChunkThatDoesNotFitEndsTheRunWithEveryStepKept) {
     } catch (const TrajectoryWriter::OutOfSpace& e) {
       reason = e.what();
     }
-    EXPECT_EQ(w.steps(), appended);  // the step that did not fit was not appended
+    EXPECT_EQ(w.rows(), appended);  // the step that did not fit was not appended
     w.fail(reason);
   }
   EXPECT_NE(reason.find("file size limit"), std::string::npos) << reason;

@@ -109,10 +109,29 @@ inline std::set<std::string> datasetNames(const std::string& path) {
   return names;
 }
 
-// The number of complete rows: the scalar /steps when the writer stores one, else len(/time).
+// The per-row datasets of a trajectory file: every chunked dataset.
+inline std::vector<std::string> perRowDatasets(const std::string& path) {
+  std::vector<std::string> out;
+  const hid_t f = openFile(path);
+  if (f < 0) return out;
+  for (const std::string& name : datasetNames(path)) {
+    const hid_t d = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+    const hid_t plist = H5Dget_create_plist(d);
+    if (H5Pget_layout(plist) == H5D_CHUNKED) out.push_back(name);
+    H5Pclose(plist);
+    H5Dclose(d);
+  }
+  H5Fclose(f);
+  return out;
+}
+
+// The number of complete rows: the scalar /rows when the writer stores one, else /steps (older
+// files counted rows there), else len(/time).
 inline long completeRows(const std::string& path) {
-  const Dataset steps = readDataset(path, "/steps");
-  if (steps.ok && steps.values.size() == 1) return std::lround(steps.values[0]);
+  for (const char* counter : {"/rows", "/steps"}) {
+    const Dataset rows = readDataset(path, counter);
+    if (rows.ok && rows.values.size() == 1) return std::lround(rows.values[0]);
+  }
   const Dataset time = readDataset(path, "/time");
   return time.ok ? time.rows() : -1;
 }
@@ -149,14 +168,30 @@ inline bool allFinite(const std::vector<double>& v, size_t count) {
   return true;
 }
 
-// The numeric datasets of DESIGN.md 11 and their shapes after the row dimension (-1: any size).
+// The sizes kNumericDatasets' shapes name: coordinates, contacts, links, contact features.
+enum : long { kN = -1, kC = -2, kL = -3, kF = -4 };
+// The per-row numeric datasets of the layout (README "Usage") that are finite in every complete row,
+// and their shapes after the row dimension. (/joints/q_target and /joints/qdot_target are NaN on
+// unactuated coordinates.)
 inline const std::vector<std::pair<std::string, std::vector<long>>> kNumericDatasets = {
     {"/time", {}},
-    {"/q", {-1}},
-    {"/qdot", {-1}},
+    {"/q", {kN}},
+    {"/qdot", {kN}},
     {"/base/position", {3}},
     {"/base/rpy", {3}},
-    {"/contacts/wrench", {-1, 6}},
+    {"/base/quaternion", {4}},
+    {"/base/chart", {4}},
+    {"/contacts/wrench", {kC, 6}},
+    {"/contacts/foot_point", {kC, 3}},
+    {"/contacts/signed_distance", {kC}},
+    {"/contacts/features", {kC, kF}},
+    {"/joints/torque", {kN}},
+    {"/joints/torque_pd", {kN}},
+    {"/joints/torque_feedforward", {kN}},
+    {"/energy/kinetic", {}},
+    {"/energy/potential", {}},
+    {"/links/position", {kL, 3}},
+    {"/links/quaternion", {kL, 4}},
     {"/stats/outer_iterations", {}},
     {"/stats/g_evaluations", {}},
     {"/stats/substeps", {}},

@@ -35,7 +35,7 @@ def is_complete(path):
 def metrics(path):
     """The summary metrics of a complete run file (dict of METRICS)."""
     with h5py.File(path, "r") as f:
-        rows = int(f["steps"][()])
+        rows = int(f["rows"][()]) if "rows" in f else int(f["steps"][()])  # older files counted rows in /steps
         position = f["base/position"][rows - 1]
         yaw = f["base/rpy"][rows - 1, 2]
         wall = float(np.sum(f["stats/wall_time"][:rows]))
