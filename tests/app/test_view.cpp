@@ -101,34 +101,6 @@ TEST(ViewCli, PageHoldsTheRunAsItsFileStoresIt) {
 
   const json terrain_config = json::parse(R"({"type": "procedural", "hills": [{"centre": [0.3, 0.1], "height": 0.03, "width": 0.25}]})");
   const std::unique_ptr<Terrain> terrain = makeTerrain(terrain_config, ConfigContext{"test", ""});
-  ASSERT_TRUE(file.exists("/contacts/foot_point")) << "the output file has no /contacts/foot_point (engineer A's part)";
-  EXPECT_EQ(decodeArray(R["contacts"]["points"]).values, storedAsFloat(file, "/contacts/foot_point", N));
-  const h5::File::Array feet = file.readArray("/contacts/foot_point");
-  const PayloadArray normal = decodeArray(R["contacts"]["normal_force"]);
-  double largest = 0;
-  for (size_t k = 0; k < static_cast<size_t>(N) * C; ++k) {
-    TerrainQuery tq;
-    terrain->query(Vec3(feet.values[3 * k], feet.values[3 * k + 1], feet.values[3 * k + 2]), tq, false);
-    const double expected = tq.normal.dot(Vec3(wrench.values[6 * k + 3], wrench.values[6 * k + 4], wrench.values[6 * k + 5]));
-    EXPECT_NEAR(normal.values[k], expected, 1e-6 * std::abs(expected) + 1e-4) << "row " << k / C << " contact " << k % C;
-    largest = std::max(largest, std::abs(expected));
-  }
-  EXPECT_GT(largest, 10.0) << "no foot pressed on the ground: the normal-force check saw nothing";
-
-  // Link poses: every URDF link, position and quaternion as /links/* stores them.
-  ASSERT_TRUE(file.exists("/links/position")) << "the output file has no /links poses (engineer A's part)";
-  const std::vector<std::string> link_names = file.readStrings("/links/names");
-  ASSERT_EQ(R["links"].size(), link_names.size());
-  for (size_t l = 0; l < link_names.size(); ++l) EXPECT_EQ(R["links"][l]["name"], link_names[l]);
-  const PayloadArray poses = decodeArray(R["link_poses"]);
-  const size_t L = link_names.size();
-  ASSERT_EQ(poses.shape, (std::vector<size_t>{static_cast<size_t>(N), L, 7}));
-  const std::vector<double> position = storedAsFloat(file, "/links/position", N), quaternion = storedAsFloat(file, "/links/quaternion", N);
-  for (size_t k = 0; k < static_cast<size_t>(N) * L; ++k) {
-    for (int a = 0; a < 3; ++a) EXPECT_EQ(poses.values[7 * k + a], position[3 * k + a]);
-    for (int a = 0; a < 4; ++a) EXPECT_EQ(poses.values[7 * k + 3 + a], quaternion[4 * k + a]);
-  }
-
   // The terrain: heights at the nodes are the hill's (vertical distance: h = −φ(x, y, 0)); the grid
   // covers the trunk's path and the feet with the margin.
   const json& T = p["terrain"];
@@ -171,13 +143,43 @@ TEST(ViewCli, PageHoldsTheRunAsItsFileStoresIt) {
   EXPECT_EQ(again.exit_code, 0) << again.err;
   EXPECT_EQ(again.out, "");
   EXPECT_EQ(readText(page_path), page.html);
+
+  // The datasets engineer A's writer adds: foot points and link poses, as stored.
+  ASSERT_TRUE(file.exists("/contacts/foot_point")) << "the output file has no /contacts/foot_point (engineer A's part)";
+  EXPECT_EQ(decodeArray(R["contacts"]["points"]).values, storedAsFloat(file, "/contacts/foot_point", N));
+  const h5::File::Array feet = file.readArray("/contacts/foot_point");
+  const PayloadArray normal = decodeArray(R["contacts"]["normal_force"]);
+  double largest = 0;
+  for (size_t k = 0; k < static_cast<size_t>(N) * C; ++k) {
+    TerrainQuery tq;
+    terrain->query(Vec3(feet.values[3 * k], feet.values[3 * k + 1], feet.values[3 * k + 2]), tq, false);
+    const double expected = tq.normal.dot(Vec3(wrench.values[6 * k + 3], wrench.values[6 * k + 4], wrench.values[6 * k + 5]));
+    EXPECT_NEAR(normal.values[k], expected, 1e-6 * std::abs(expected) + 1e-4) << "row " << k / C << " contact " << k % C;
+    largest = std::max(largest, std::abs(expected));
+  }
+  EXPECT_GT(largest, 10.0) << "no foot pressed on the ground: the normal-force check saw nothing";
+
+  // Link poses: every URDF link, position and quaternion as /links/* stores them.
+  ASSERT_TRUE(file.exists("/links/position")) << "the output file has no /links poses (engineer A's part)";
+  const std::vector<std::string> link_names = file.readStrings("/links/names");
+  ASSERT_EQ(R["links"].size(), link_names.size());
+  for (size_t l = 0; l < link_names.size(); ++l) EXPECT_EQ(R["links"][l]["name"], link_names[l]);
+  const PayloadArray poses = decodeArray(R["link_poses"]);
+  const size_t L = link_names.size();
+  ASSERT_EQ(poses.shape, (std::vector<size_t>{static_cast<size_t>(N), L, 7}));
+  const std::vector<double> position = storedAsFloat(file, "/links/position", N), quaternion = storedAsFloat(file, "/links/quaternion", N);
+  for (size_t k = 0; k < static_cast<size_t>(N) * L; ++k) {
+    for (int a = 0; a < 3; ++a) EXPECT_EQ(poses.values[7 * k + a], position[3 * k + a]);
+    for (int a = 0; a < 4; ++a) EXPECT_EQ(poses.values[7 * k + 3 + a], quaternion[4 * k + a]);
+  }
 }
 
 TEST(ViewCli, SandPatchIsItsOwnMaterial) {
   TempDir dir;
   useStandInBundle(dir);
   const std::string run = dir.file("pit.h5");
-  runComplete({sceneFile("quadruped_trot_sandpit.json"), "--set", "duration=0.1", "--quiet"}, dir, run);
+  runComplete({sceneFile("quadruped_trot_sandpit.json"), "--set", "duration=0.1", "--set", "robot.initial.base_position=[0.6, 0]", "--quiet"},
+              dir, run);
   const CliResult r = runView({run, "--out", dir.file("pit_page.html"), "--quiet"}, dir);
   ASSERT_EQ(r.exit_code, 0) << r.err;
   const json T = payloadOf(readText(dir.file("pit_page.html")))["terrain"];
@@ -197,8 +199,12 @@ TEST(ViewCli, SandPatchIsItsOwnMaterial) {
       const bool inside = x > 1.03 && x < 7.97 && y > -1.47 && y < 1.47;
       const bool outside = x < 0.97 || x > 8.03 || y < -1.53 || y > 1.53;
       const double m = material.values[j * nx + i];
-      if (inside) EXPECT_EQ(m, 1) << "(" << x << ", " << y << ") is in the pit";
-      if (outside) EXPECT_EQ(m, 0) << "(" << x << ", " << y << ") is outside the pit";
+      if (inside) {
+        EXPECT_EQ(m, 1) << "(" << x << ", " << y << ") is in the pit";
+      }
+      if (outside) {
+        EXPECT_EQ(m, 0) << "(" << x << ", " << y << ") is outside the pit";
+      }
       sand += inside;
       rigid += outside;
     }

@@ -177,7 +177,9 @@ TEST_F(ViewErrors, ServeAnswersAGetWithThePageUntilSigterm) {
   const pid_t pid = ::fork();
   if (pid == 0) {
     const int fd = ::open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = ::open((out + ".err").c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
     ::dup2(fd, 1);
+    ::dup2(err, 2);
     ::execl(NMDP_BINARY, NMDP_BINARY, "view", run_.c_str(), "--out", page.c_str(), "--serve", "0", static_cast<char*>(nullptr));
     ::_exit(127);
   }

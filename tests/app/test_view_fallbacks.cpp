@@ -106,32 +106,52 @@ TEST(ViewFallbacks, RunKilledBySigkillShowsItsCommittedRowsAndSaysItWasCutShort)
       << R["warnings"];
 }
 
+// Solo-12's URDF names its meshes package://example-robot-data/...: in place they are found (and
+// inlined); a copy of the URDF alone finds none, so each link falls back, the mesh named.
 TEST(ViewFallbacks, Solo12WithoutItsMeshesIsDrawnFromItsOtherShapes) {
   const std::string scene = sourcePath("models/scenes/evaluation/solo12_trot_flat.json");
-  if (!fs::exists(sharedPath("robots/solo12/urdf/solo12.urdf"))) GTEST_SKIP() << "../shared/robots/solo12 is absent";
+  const std::string urdf = sharedPath("robots/solo12/urdf/solo12.urdf");
+  if (!fs::exists(urdf)) GTEST_SKIP() << "../shared/robots/solo12 is absent";
   TempDir dir;
   useStandInBundle(dir);
+  const std::string lone_urdf = dir.file("solo12.urdf");
+  fs::copy_file(urdf, lone_urdf);
   const std::string run = dir.file("solo.h5");
-  runComplete({scene, "--set", "duration=0.1", "--quiet"}, dir, run);
+  runComplete({scene, "--set", "robot.urdf=" + lone_urdf, "--set", "duration=0.1", "--quiet"}, dir, run);
   const json p = viewPayload({run}, dir, dir.file("solo.html"));
   ASSERT_TRUE(p.is_object());
   const json& R = p["runs"][0];
-  // A missing mesh is named with the link drawn instead from its collision shapes or inertia box.
-  bool named = false;
-  for (const json& w : R["warnings"]) {
-    const std::string text = w.get<std::string>();
-    named = named || (text.find("mesh package://example-robot-data/") != std::string::npos && text.find("is not found: link ") != std::string::npos);
-  }
-  EXPECT_TRUE(named) << R["warnings"];
-  int meshes = 0, fallbacks = 0;
+  // The trunk's mesh (visual and collision) is named, the link drawn as its inertia box.
+  EXPECT_TRUE(hasWarning(R["warnings"], {"mesh package://example-robot-data/robots/solo_description/meshes/stl/solo12/solo_12_base.stl is not found",
+                                         "link base_link is drawn as the box of its mass and inertia"}))
+      << R["warnings"];
+  int meshes = 0, boxes = 0;
   for (const json& link : R["links"])
     for (const json& v : link["visuals"]) {
       meshes += v["type"] == "mesh";
-      fallbacks += v["source"] != "visual";
-      if (v["type"] == "mesh") EXPECT_GT(decodeArray(v["data"]).values.size(), 84u) << link["name"];
+      if (v["source"] == "inertia") {
+        ++boxes;
+        EXPECT_EQ(v["type"], "box");
+        for (int k = 0; k < 3; ++k) EXPECT_GT(v["size"][k].get<double>(), 0.0);
+      }
     }
-  EXPECT_GT(fallbacks, 0) << "no link fell back although meshes are missing";
-  std::cout << "Solo-12: " << meshes << " mesh visuals inlined, " << fallbacks << " fallback shapes\n";
+  EXPECT_EQ(meshes, 0) << "no mesh of the lone URDF can be found";
+  EXPECT_GT(boxes, 0);
+
+  // In place, the same robot's meshes that exist are inlined.
+  const std::string in_place = dir.file("solo_in_place.h5");
+  runComplete({scene, "--set", "duration=0.1", "--quiet"}, dir, in_place);
+  const json q = viewPayload({in_place}, dir, dir.file("solo_in_place.html"));
+  ASSERT_TRUE(q.is_object());
+  const std::string base_mesh = sharedPath("robots/solo12/urdf/meshes/stl/solo12/solo_12_base.stl");
+  if (!fs::exists(base_mesh)) return;
+  json trunk;
+  for (const json& link : q["runs"][0]["links"])
+    if (link["name"] == "base_link") trunk = link;
+  ASSERT_TRUE(trunk.is_object()) << "no link base_link";
+  ASSERT_FALSE(trunk["visuals"].empty());
+  EXPECT_EQ(trunk["visuals"][0]["type"], "mesh");
+  EXPECT_EQ(decodeArray(trunk["visuals"][0]["data"]).values.size(), fs::file_size(base_mesh));
 }
 
 TEST(ViewFallbacks, RoboSimianStlMeshesAreInlinedAsTheyAreOnDisk) {

@@ -26,7 +26,9 @@ class EditedRun {
 
   // Removes a dataset or group if it exists.
   void remove(const std::string& name) {
-    if (H5Lexists(id_, name.c_str(), H5P_DEFAULT) > 0) EXPECT_GE(H5Ldelete(id_, name.c_str(), H5P_DEFAULT), 0) << name;
+    if (H5Lexists(id_, name.c_str(), H5P_DEFAULT) > 0) {
+      EXPECT_GE(H5Ldelete(id_, name.c_str(), H5P_DEFAULT), 0) << name;
+    }
   }
   void setRootString(const std::string& attribute, const std::string& value) {
     if (H5Aexists(id_, attribute.c_str()) > 0) H5Adelete(id_, attribute.c_str());
