@@ -35,7 +35,8 @@ const char* const kViewHelp =
     "  --quiet          print nothing but errors\n"
     "\n"
     "The viewer's script is $NMDP_VIEWER_BUNDLE, else viewer/dist/nmdp-view.js of the source tree\n"
-    "(scripts/build.sh builds it). Exit status: 0 written (and served); 1 bad input; 2 no run given.\n";
+    "(scripts/build.sh builds it). Exit status: 0 written (and served until SIGINT or SIGTERM); 1 bad\n"
+    "input; 2 no run given; 4 SIGINT or SIGTERM before the page was written (nothing written).\n";
 
 namespace {
 
@@ -98,6 +99,10 @@ int runView(const Args& args) {
   const std::string script = findViewerBundle();
 
   const ViewPayload payload = buildViewPayload(opt.runs);
+  if (stop.received()) {
+    std::cerr << "nmdp view: interrupted by " << StopSignals::name(stop.received()) << "; nothing was written\n";
+    return 4;
+  }
   if (!opt.quiet)
     for (const std::string& warning : payload.warnings) std::cerr << "nmdp view: warning: " << warning << "\n";
   const std::string page = viewPage(payload.json, script);
