@@ -25,5 +25,7 @@ int runGenRft(const Args& args);
 extern const char* const kGenRftHelp;
 int runSweep(const Args& args);
 extern const char* const kSweepHelp;
+int runView(const Args& args);
+extern const char* const kViewHelp;
 
 }  // namespace nmdp::app

@@ -29,6 +29,8 @@ const Command kCommands[] = {
      &nmdp::app::kWrenchHelp},
     {"gen-rft", "wrench samples from resistive force theory over a foot shape, for nmdp fit", nmdp::app::runGenRft,
      &nmdp::app::kGenRftHelp},
+    {"view", "write an HTML page that replays runs in a browser (robot, terrain, contact forces, plots)",
+     nmdp::app::runView, &nmdp::app::kViewHelp},
     {"sweep", "make many runs of a scene on a Dask cluster and index them (docs/SWEEPS.md)", nmdp::app::runSweep,
      &nmdp::app::kSweepHelp},
 };

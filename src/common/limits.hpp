@@ -13,6 +13,10 @@ constexpr std::uintmax_t kMaxTextFileBytes = std::uintmax_t{256} << 20;  // 256 
 // Mesh files read for foot detection (binary STL: 50 bytes a triangle): real feet are < 10 MB.
 constexpr std::uintmax_t kMaxMeshFileBytes = std::uintmax_t{512} << 20;  // 512 MiB
 
+// Mesh bytes inlined into one page of nmdp view (all runs together): RoboSimian's STL meshes are
+// 1.3 MB; beyond this a link is drawn from its primitives instead.
+constexpr std::uintmax_t kMaxPageMeshBytes = std::uintmax_t{256} << 20;  // 256 MiB
+
 // Nesting of JSON objects/arrays and of XML elements: real scenes nest 5 deep, URDFs 4.
 constexpr int kMaxJsonDepth = 64;
 constexpr int kMaxXmlDepth = 64;

@@ -97,23 +97,58 @@ Eigen::MatrixXd File::readMatrix(const std::string& dataset, std::int64_t max_va
   return m;
 }
 
-std::string File::readText(const std::string& dataset) const {
+File::Array File::readArray(const std::string& dataset, std::int64_t max_values) const {
+  if (max_values < 0 || max_values > limits::kMaxArrayEntries) max_values = limits::kMaxArrayEntries;
+  if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
+  Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
+  if (d.id < 0) fail(path_, "cannot open dataset '" + dataset + "'");
+  Handle space{H5Dget_space(d.id), H5Sclose};
+  const int rank = H5Sget_simple_extent_ndims(space.id);
+  if (rank < 0 || rank > 4) fail(path_, "dataset '" + dataset + "' must have rank 0 to 4, it has rank " + std::to_string(rank));
+  Handle type{H5Dget_type(d.id), H5Tclose};
+  const H5T_class_t type_class = H5Tget_class(type.id);
+  if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
+    fail(path_, "dataset '" + dataset + "' is not numeric (expected floating-point or integer values)");
+  const hssize_t count = elementCount(space.id);
+  if (count < 0 || count > max_values)
+    fail(path_, "dataset '" + dataset + "' has " + std::to_string(count) + " values, more than the " + std::to_string(max_values) +
+                    (max_values == limits::kMaxArrayEntries ? " an array may have" : " it may hold"));
+  hsize_t dims[4] = {0, 0, 0, 0};
+  H5Sget_simple_extent_dims(space.id, dims, nullptr);
+  Array out;
+  for (int k = 0; k < rank; ++k) out.shape.push_back(static_cast<std::int64_t>(dims[k]));
+  out.values.resize(static_cast<size_t>(count));
+  if (count > 0 && H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.values.data()) < 0)
+    fail(path_, "dataset '" + dataset + "' is not numeric");
+  return out;
+}
+
+std::string File::readString(const std::string& dataset) const {
   if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
   Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
   if (d.id < 0) fail(path_, "cannot open dataset '" + dataset + "'");
   Handle space{H5Dget_space(d.id), H5Sclose};
   Handle stored{H5Dget_type(d.id), H5Tclose};
-  if (H5Sget_simple_extent_type(space.id) != H5S_SCALAR || H5Tget_class(stored.id) != H5T_STRING ||
-      H5Tis_variable_str(stored.id) <= 0)
-    fail(path_, "dataset '" + dataset + "' is not a scalar variable-length string");
+  if (H5Tget_class(stored.id) != H5T_STRING) fail(path_, "dataset '" + dataset + "' is not a string");
+  if (elementCount(space.id) != 1)
+    fail(path_, "dataset '" + dataset + "' must be one string, it holds " + std::to_string(elementCount(space.id)));
   Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
-  H5Tset_size(type.id, H5T_VARIABLE);
-  H5Tset_cset(type.id, H5T_CSET_UTF8);
-  char* raw = nullptr;
-  if (H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &raw) < 0) fail(path_, "cannot read dataset '" + dataset + "'");
-  std::string out(raw ? raw : "");
-  H5Dvlen_reclaim(type.id, space.id, H5P_DEFAULT, &raw);
-  if (out.size() > kMaxStringBytes) fail(path_, "dataset '" + dataset + "' holds more than " + std::to_string(kMaxStringBytes) + " bytes of text");
+  H5Tset_cset(type.id, H5Tget_cset(stored.id));  // HDF5 will not convert between UTF-8 and ASCII
+  if (H5Tis_variable_str(stored.id) > 0) {
+    H5Tset_size(type.id, H5T_VARIABLE);
+    char* value = nullptr;
+    if (H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, &value) < 0) fail(path_, "cannot read dataset '" + dataset + "'");
+    std::string out = value ? value : "";
+    H5free_memory(value);
+    if (out.size() > kMaxStringBytes) fail(path_, "dataset '" + dataset + "' holds more than " + std::to_string(kMaxStringBytes) + " bytes of text");
+    return out;
+  }
+  const size_t size = H5Tget_size(stored.id);
+  if (size == 0 || size > kMaxStringBytes) fail(path_, "dataset '" + dataset + "' is not a string of a usable size");
+  std::string out(size, '\0');
+  H5Tset_size(type.id, size);
+  if (H5Dread(d.id, type.id, H5S_ALL, H5S_ALL, H5P_DEFAULT, out.data()) < 0) fail(path_, "cannot read dataset '" + dataset + "'");
+  out.resize(std::strlen(out.c_str()));
   return out;
 }
 

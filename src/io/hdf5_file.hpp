@@ -31,8 +31,15 @@ class File {
   // file cannot make it allocate more (the default is limits::kMaxArrayEntries).
   Eigen::MatrixXd readMatrix(const std::string& dataset, std::int64_t max_values = -1) const;
   std::vector<std::string> readStrings(const std::string& dataset) const;
-  // A scalar variable-length string dataset (e.g. a trajectory's /model/urdf).
-  std::string readText(const std::string& dataset) const;
+  // A numeric dataset of any rank up to 4 (e.g. N × C × 6; a scalar has an empty shape), as float64 in C order, with its shape;
+  // the same size check as readMatrix.
+  struct Array {
+    std::vector<std::int64_t> shape;
+    std::vector<double> values;
+  };
+  Array readArray(const std::string& dataset, std::int64_t max_values = -1) const;
+  // A scalar (or one-element) string dataset, e.g. a stored text.
+  std::string readString(const std::string& dataset) const;
   std::string readStringAttribute(const std::string& object, const std::string& name) const;
   double readDoubleAttribute(const std::string& object, const std::string& name) const;
   bool hasAttribute(const std::string& object, const std::string& name) const;

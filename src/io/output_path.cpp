@@ -94,9 +94,19 @@ std::vector<RunInput> filesInFolder(const std::string& folder, const std::string
   return files;
 }
 
+// Whether the file begins (within its first kilobyte) with the marker of a page nmdp wrote.
+bool isNmdpPage(const std::string& path) {
+  std::FILE* file = std::fopen(path.c_str(), "rb");
+  if (!file) return false;
+  char head[1024];
+  const size_t n = std::fread(head, 1, sizeof head, file);
+  std::fclose(file);
+  return std::string(head, n).find(kPageMarkerPrefix) != std::string::npos;
+}
+
 bool isNmdpOutputFile(const std::string& path) {
   h5::silenceHdf5();
-  if (H5Fis_hdf5(path.c_str()) <= 0) return false;
+  if (H5Fis_hdf5(path.c_str()) <= 0) return isNmdpPage(path);
   const h5::Handle file{h5::openReadOnly(path), H5Fclose};
   if (file.id < 0) return false;
   auto hasAttribute = [&](const char* name) { return H5Aexists_by_name(file.id, "/", name, H5P_DEFAULT) > 0; };

@@ -9,7 +9,8 @@
 //    HDF5 files carry the root attribute `nmdp_output` (every HDF5 file nmdp writes), or one of
 //    the markers of files written before it existed: `nmdp_model` (model files), `nmdp_dataset`
 //    (force datasets), or the root attribute `config` together with the dataset /status
-//    (trajectories). A folder of CSV files written by `nmdp gen-rft` holds kFolderMarker, the list
+//    (trajectories). An HTML page (nmdp view) carries kPageMarkerPrefix in its first kilobyte,
+//    e.g. <meta name="nmdp-output" content="view">. A folder of CSV files written by `nmdp gen-rft` holds kFolderMarker, the list
 //    of the files it wrote; an existing folder is written into only if it is empty or holds nothing
 //    but those files.
 // Every refusal is one InputError naming the output and what it would replace.
@@ -50,7 +51,10 @@ inline constexpr const char* kFolderMarker = "nmdp_output.json";
 // interrupted half-way is still recognised as nmdp's).
 void writeFolderMarker(const std::string& folder, const std::string& command, const std::vector<std::string>& names);
 
-// Whether `path` is an existing HDF5 file carrying one of the nmdp markers above.
+// The start of the marker element of a page nmdp wrote.
+inline constexpr const char* kPageMarkerPrefix = "<meta name=\"nmdp-output\"";
+
+// Whether `path` is an existing HDF5 file carrying one of the nmdp markers above, or a marked page.
 bool isNmdpOutputFile(const std::string& path);
 
 // A name in the folder of `final_path` that does not exist yet: "<name>.<16 hex digits>.partial".

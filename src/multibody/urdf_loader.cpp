@@ -558,8 +558,8 @@ class Builder {
 
 Model loadUrdf(const std::string& path, const UrdfOptions& options) { return Builder(path, options).build(); }
 
-std::string resolveUrdfMesh(const std::string& filename, const std::string& urdf_path) {
-  return resolveMesh(filename, fs::path(urdf_path).parent_path());
+std::string resolveMeshFile(const std::string& filename, const std::string& urdf_dir) {
+  return resolveMesh(filename, fs::path(urdf_dir));
 }
 
 }  // namespace nmdp

@@ -21,8 +21,8 @@ Model loadUrdf(const std::string& path, const UrdfOptions& options = {});
 
 BaseType parseBaseType(const std::string& name);
 
-// A URDF <mesh filename="..."> resolved as loadUrdf resolves it (package:// and relative paths
-// against the URDF's folder and its parents): an absolute path, or "" when no such file exists.
-std::string resolveUrdfMesh(const std::string& filename, const std::string& urdf_path);  // throws InputError listing valid names
+// A <mesh filename="..."> resolved as loadUrdf resolves it (package://, file:// and relative paths
+// against `urdf_dir` and its parents): the absolute path of the file, "" when none is found.
+std::string resolveMeshFile(const std::string& filename, const std::string& urdf_dir);
 
 }  // namespace nmdp

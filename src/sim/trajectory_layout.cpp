@@ -1,6 +1,7 @@
 #include "sim/trajectory_layout.hpp"
 
 #include <algorithm>
+#include <filesystem>
 
 #include "common/input_file.hpp"
 #include "multibody/urdf_loader.hpp"
@@ -86,7 +87,7 @@ TrajectoryLayout trajectoryLayout(const Simulation& sim) {
   layout.urdf_path = sim.scene().urdf;
   layout.urdf_text = readInputFile(layout.urdf_path, "URDF file");
   layout.mesh_files = urdfMeshFiles(layout.urdf_text);
-  for (const std::string& file : layout.mesh_files) layout.mesh_paths.push_back(resolveUrdfMesh(file, layout.urdf_path));
+  for (const std::string& file : layout.mesh_files) layout.mesh_paths.push_back(resolveMeshFile(file, std::filesystem::path(layout.urdf_path).parent_path().string()));
   layout.terrain_description = selfContainedTerrain(sim.scene().terrain).dump();
   return layout;
 }

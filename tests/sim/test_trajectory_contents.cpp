@@ -226,7 +226,7 @@ TEST(TrajectoryContents, TerrainDescriptionRebuildsTheTerrainWithoutItsFile) {
   Simulation sim = buildSimulation(parseScene(scene, scene_path), coulombAndRbf());
   record(sim, dir.file("hills.h5"));
   std::filesystem::remove(csv);
-  const nlohmann::json description = nlohmann::json::parse(h5::File::openRead(dir.file("hills.h5")).readText("/terrain/description"));
+  const nlohmann::json description = nlohmann::json::parse(h5::File::openRead(dir.file("hills.h5")).readString("/terrain/description"));
   EXPECT_FALSE(description.contains("file"));
   const std::unique_ptr<Terrain> rebuilt = makeTerrain(description, {"description", dir.path().string()});
   TerrainQuery a, b;
