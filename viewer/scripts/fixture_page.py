@@ -16,7 +16,7 @@ def rpy_to_quat(rpy):
     return np.stack([sr*cp*cy - cr*sp*sy, cr*sp*cy + sr*cp*sy, cr*cp*sy - sr*sp*cy, cr*cp*cy + sr*sp*sy], axis=1)
 
 def run_of(path):
-    f = h5py.File(path, "r")
+    f = h5py.File(path, "r", swmr=True)
     n = int(f["steps"][()])
     status = f["status"][()].decode().rstrip("\0")
     time = f["time"][:n]

@@ -133,7 +133,7 @@ class Viewer {
       id: "nmdp-view-time", type: "range", min: "0", max: String(this.endTime),
       step: String(smallestStep(this.runs)), value: "0",
     }, bar);
-    slider.addEventListener("input", () => this.setTime(Number(slider.value)));
+    slider.addEventListener("input", () => this.setTime(this.snapToFrame(Number(slider.value))));
     this.slider = slider;
     this.clock = element("span", { id: "nmdp-view-clock" }, bar);
     window.addEventListener("keydown", (e) => {
@@ -159,6 +159,17 @@ class Viewer {
     this.plots = new PlotPanel(this.runs, this.runs.map((_, k) => RUN_TINTS[k % RUN_TINTS.length]),
       this.panel, () => this.time, (t) => this.setTime(t));
     element("div", { className: "nmdp-view-generator", textContent: this.payload.generator }, this.panel);
+  }
+
+  // The slider holds multiples of its step, which miss the stored times by rounding (20 × 0.05 is
+  // 0.999..., the last time 1.0): a value within a millionth of a step of a frame's time is that time.
+  snapToFrame(t) {
+    const tolerance = 1e-6 * Number(this.slider.step);
+    for (const run of this.runs) {
+      const i = frameAt(run.time, t + tolerance);
+      if (Math.abs(run.time[i] - t) <= tolerance) return run.time[i];
+    }
+    return t;
   }
 
   basePosition(frame, run = this.runs[0]) {
