@@ -154,6 +154,8 @@ class Viewer {
         folder.add(proxy, "shown").name(`${k + 1}: ${run.label}`.slice(0, 40)).onChange(() => this.update());
       });
     }
+    // On a small window the controls would cover the robot: folded until opened.
+    if (this.stage.clientWidth < 640) gui.close();
     this.gui = gui;
 
     this.plots = new PlotPanel(this.runs, this.runs.map((_, k) => RUN_TINTS[k % RUN_TINTS.length]),

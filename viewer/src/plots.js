@@ -3,7 +3,7 @@
 // A click on a plot moves the time there.
 import uPlot from "uplot";
 
-const HEIGHT = 140; // px per plot
+const HEIGHT = 118; // px per plot: the four fit beside a 720 px high view
 const CONTACT_COLORS = ["#e8590c", "#1971c2", "#2f9e44", "#9c36b5", "#f08c00", "#0c8599", "#c2255c", "#5c940d"];
 
 function cursorPlugin(getTime) {

@@ -19,14 +19,14 @@ export const CHROMIUM_ARGS = [
   "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist",
 ];
 
-export async function launchBrowser() {
+export async function launchBrowser(viewport = { width: 800, height: 600 }) {
   if (!fs.existsSync(CHROMIUM)) {
     throw new Error(`${CHROMIUM} is missing: install Debian's chromium (scripts/install-deps.sh)`);
   }
   const userDataDir = fs.mkdtempSync(path.join(os.tmpdir(), "nmdp-view-chromium-"));
   const context = await chromium.launchPersistentContext(userDataDir, {
     executablePath: CHROMIUM, headless: true, args: CHROMIUM_ARGS,
-    viewport: { width: 800, height: 600 }, deviceScaleFactor: 1,
+    viewport, deviceScaleFactor: 1,
   });
   return {
     context,
