@@ -97,20 +97,27 @@ def run_of(path):
     cnames = [s.decode() for s in f["contacts/names"][:]]
     heading = np.array([math.cos(f["base/rpy"][0, 2]), math.sin(f["base/rpy"][0, 2])])
     config = json.loads(f.attrs["config"])
-    links, joints = urdf_model(config["robot"]["urdf"])
-    poses = link_poses(links, joints, names, f["q"][:n], pos, f["base/rpy"][:n])
-    link_names = [l["name"] for l in links]
-    points = np.stack([poses[:, link_names.index(c), :3] for c in cnames], axis=1)
-    warnings = [f"{os.path.basename(path)} is drawn from its URDF's collision shapes by the fixture"]
+    urdf = config["robot"]["urdf"]
+    if os.path.exists(urdf):
+        links, joints = urdf_model(urdf)
+        poses = link_poses(links, joints, names, f["q"][:n], pos, f["base/rpy"][:n])
+        link_names = [l["name"] for l in links]
+        points = arr(np.stack([poses[:, link_names.index(c), :3] for c in cnames], axis=1), "float32")
+        poses = arr(poses, "float32")
+        warnings = []
+    else:
+        links = [{"name": "trunk", "visuals": [{"type": "box", "size": [0.4, 0.2, 0.1], "origin": [0, 0, 0, 0, 0, 0, 1], "color": None, "source": "inertia"}]}]
+        poses = points = None
+        warnings = [f"{os.path.basename(path)} has no /model/urdf and its URDF {urdf} is not found: the trunk is drawn as a box"]
     if status == "running":
         warnings.append(f"{os.path.basename(path)} was cut short (status 'running'): {n} committed rows")
     return {
         "label": f"{os.path.basename(path)}: {f.attrs.get('method', '?')}, dt = {float(f.attrs.get('dt', 0))*1000:g} ms",
         "file": os.path.abspath(path), "status": status, "warnings": warnings, "frames": n,
         "time": arr(time, "float64"),
-        "links": links, "link_poses": arr(poses, "float32"),
+        "links": links, "link_poses": poses,
         "base": {"position": arr(pos, "float32"), "quaternion": arr(quat, "float32")},
-        "contacts": {"names": cnames, "points": arr(points, "float32"), "forces": arr(wrench[:, :, 3:6], "float32"), "normal_force": arr(wrench[:, :, 5], "float32")},
+        "contacts": {"names": cnames, "points": points, "forces": arr(wrench[:, :, 3:6], "float32"), "normal_force": arr(wrench[:, :, 5], "float32")},
         "joints": {"names": names, "q": arr(f["q"][:n], "float32")},
         "series": {"torso_height": arr(pos[:, 2], "float32"), "forward_distance": arr((pos[:, :2] - pos[0, :2]) @ heading, "float32")},
     }, pos

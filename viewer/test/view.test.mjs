@@ -208,10 +208,13 @@ describe("nmdp view in headless chromium", () => {
 
   it("opens a run killed by SIGKILL and says it was cut short", async () => {
     const file = path.join(tmp, "killed.h5");
-    // 600 s of trot takes about 20 s to simulate: killed after 1.5 s it has written some rows of 12001.
+    // 600 s of trot takes about 20 s to simulate: killed after 1 s it has written some of its 12001 rows.
     const child = spawn(nmdp, ["simulate", scene, "--quiet", "--set", "duration=600", "--out", file], { stdio: "ignore" });
     const exited = new Promise((resolve) => child.on("exit", (code, signal) => resolve(signal)));
-    await new Promise((resolve) => setTimeout(resolve, 1500));
+    const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+    // Killed 1 s after the file appears (a busy machine may take a while to start it).
+    for (let waited = 0; !fs.existsSync(file) && waited < 20000; waited += 50) await sleep(50);
+    await sleep(1000);
     child.kill("SIGKILL");
     assert.equal(await exited, "SIGKILL");
     const html = path.join(tmp, "killed.html");
@@ -224,6 +227,20 @@ describe("nmdp view in headless chromium", () => {
     const warnings = await warningsOf(page);
     assert.ok(warnings.some((w) => /running|cut short/.test(w) && w.includes("killed.h5")), `warnings: ${JSON.stringify(warnings)}`);
     assert.ok(await page.isVisible("#nmdp-view-warnings"));
+    await page.close();
+  });
+
+  it("shows an error in the page and the title when the payload cannot be read", async () => {
+    const bundle = fs.readFileSync(path.join(viewerDir, "dist", "nmdp-view.js"), "utf8");
+    const html = path.join(tmp, "bad.html");
+    const payload = JSON.stringify({ format: "nmdp-view", version: 2, runs: [] });
+    fs.writeFileSync(html, '<!doctype html><html><head><meta charset="utf-8"><title>nmdp view: loading</title></head><body>' +
+      `<script type="application/json" id="nmdp-view-data">${payload}</script>` +
+      `<script>${bundle.replaceAll("</script", "<\\/script")}</script></body></html>`);
+    const page = await openPage(browser.context, html);
+    assert.equal(await page.title(), "nmdp view: error (payload version 2, this viewer reads version 1)");
+    assert.ok(await page.isVisible("#nmdp-view-error"));
+    assert.match(await page.textContent("#nmdp-view-error"), /payload version 2/);
     await page.close();
   });
 
