@@ -7,16 +7,18 @@ import path from "node:path";
 
 export const CHROMIUM = process.env.NMDP_CHROMIUM || "/usr/bin/chromium";
 
-// --no-sandbox: the tests run as root in CI. The background-networking flags keep chromium from
-// calling out of a closed network (every refused connection otherwise costs time).
-// WebGL without a GPU: --use-angle=swiftshader with --enable-unsafe-swiftshader gives three.js a
-// software WebGL2 context (without the second flag chromium 156 refuses SwiftShader for WebGL and
-// three.js fails with "Error creating WebGL context"); --ignore-gpu-blocklist keeps it from being
-// blocked. --disable-gpu is NOT passed: it would turn WebGL off altogether.
+// --no-sandbox: chromium as root (CI) needs it. The background-networking flags keep chromium from
+// trying to reach the network at start (CI machines have none).
+// WebGL without a GPU: SwiftShader, chromium's software renderer. Debian's chromium 156, headless,
+// already falls back to it on a machine without a GPU (three.js renders with no flag at all, and with
+// --disable-gpu too; the renderer reads "ANGLE (Google, Vulkan 1.3.0 (SwiftShader Device
+// (Subzero)...), SwiftShader driver)", and playwright-core adds --enable-unsafe-swiftshader itself).
+// --use-angle=swiftshader --enable-unsafe-swiftshader ask for it explicitly: the same renderer, so the
+// same pixels, on a machine with a GPU, and WebGL still there in a chromium that drops the fallback.
 export const CHROMIUM_ARGS = [
   "--no-sandbox", "--disable-quic", "--no-first-run", "--disable-background-networking",
   "--disable-component-update", "--disable-sync", "--disable-default-apps",
-  "--use-angle=swiftshader", "--enable-unsafe-swiftshader", "--ignore-gpu-blocklist",
+  "--use-angle=swiftshader", "--enable-unsafe-swiftshader",
 ];
 
 export async function launchBrowser(viewport = { width: 800, height: 600 }) {
