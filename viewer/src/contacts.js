@@ -11,7 +11,7 @@ export function buildContacts(run, look) {
   const forces = run.contacts.forces;
   const markers = [];
   const arrows = [];
-  const color = look.tint ? look.tint.clone() : new THREE.Color(0xd9480f);
+  const color = look.tint ? look.tint.clone() : new THREE.Color(0xe03131);
   for (let k = 0; k < c && points; k++) {
     const marker = new THREE.Mesh(new THREE.SphereGeometry(POINT_RADIUS, 12, 8),
       new THREE.MeshBasicMaterial({ color, transparent: look.opacity < 1, opacity: look.opacity }));

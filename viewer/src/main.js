@@ -15,7 +15,9 @@ import { PlotPanel } from "./plots.js";
 import { parseHash } from "./hash.js";
 
 // Run 0 in its own colours; overlaid runs k > 0 tinted and translucent.
-const RUN_TINTS = ["#1c7ed6", "#e8590c", "#2f9e44", "#9c36b5", "#f08c00", "#0c8599"];
+// Run 0's tint colours its path, legend swatch and plot lines; its robot keeps the URDF's colours and
+// its force arrows are red, a colour no tint uses.
+const RUN_TINTS = ["#1c7ed6", "#2f9e44", "#7048e8", "#f59f00", "#0c8599", "#d6336c"];
 const OVERLAY_OPACITY = 0.45;
 const SPEEDS = [0.1, 0.25, 0.5, 1, 2, 4];
 
