@@ -283,6 +283,8 @@ function boot() {
     viewer = new Viewer(payload, parseHash(location.hash));
     viewer.showWarnings();
     viewer.time = Math.min(Math.max(viewer.options.t ?? 0, 0), viewer.endTime);
+    // A camera from the hash is where it is at that time: the follow camera moves on from there.
+    if (viewer.options.camera) viewer.lastBase = viewer.basePosition(frameAt(viewer.runs[0].time, viewer.time));
     viewer.update();
   } catch (e) {
     console.error(e);

@@ -185,6 +185,32 @@ describe("nmdp view in headless chromium", () => {
     await earlyPage.close();
   });
 
+  it("follows the trunk by default, and plays", async () => {
+    const page = await openPage(browser.context, page1);
+    const projectAt = (time, frame) => page.evaluate(async ([t, p]) => {
+      await window.nmdpView.setTime(t);
+      return window.nmdpView.project(p);
+    }, [time, basePosition(run, frame)]);
+    // The follow camera moves with the trunk: it stays on the same pixel.
+    const a = await projectAt(run.timeValues[4], 4);
+    const b = await projectAt(run.timeValues[20], 20);
+    assert.ok(Math.hypot(a[0] - b[0], a[1] - b[1]) < 0.5, `the followed trunk moved from ${a} to ${b}`);
+    // Without it the camera stays and the trunk moves across the view.
+    await page.evaluate(() => window.nmdpView.setFollow(false));
+    const c = await projectAt(run.timeValues[4], 4);
+    assert.ok(Math.hypot(b[0] - c[0], b[1] - c[1]) > 20, `the unfollowed trunk stayed at ${b} / ${c}`);
+    // play() advances the time; pause() stops it.
+    const played = await page.evaluate(async () => {
+      const before = window.nmdpView.rendered;
+      window.nmdpView.play();
+      await new Promise((resolve) => setTimeout(resolve, 400));
+      window.nmdpView.pause();
+      return [window.nmdpView.time, window.nmdpView.rendered - before];
+    });
+    assert.ok(played[0] > run.timeValues[4] && played[1] > 1, `after 0.4 s of play: t = ${played[0]} s, ${played[1]} frames drawn`);
+    await page.close();
+  });
+
   it("opens a run whose URDF is gone and says so", async () => {
     const dir = path.join(tmp, "moved");
     fs.mkdirSync(dir);
