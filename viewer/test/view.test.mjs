@@ -15,6 +15,8 @@ const viewerDir = path.dirname(path.dirname(fileURLToPath(import.meta.url)));
 const sourceDir = process.env.NMDP_SOURCE_DIR || path.dirname(viewerDir);
 const nmdp = process.env.NMDP_BINARY || path.join(sourceDir, "build", "nmdp");
 const scene = path.join(sourceDir, "models", "scenes", "quadruped_trot_sand3d.json");
+// The pages embed this checkout's bundle, whatever NMDP_VIEWER_BUNDLE the caller has set.
+const bundle = path.join(viewerDir, "dist", "nmdp-view.js");
 
 // Missing pieces fail every test with one message saying what to do: never a silent skip.
 function missingPrerequisites() {
@@ -22,7 +24,7 @@ function missingPrerequisites() {
   if (!fs.existsSync(path.join(viewerDir, "node_modules", "playwright-core"))) {
     problems.push(`${viewerDir}/node_modules is missing: run scripts/build.sh (or npm ci in viewer/)`);
   }
-  if (!fs.existsSync(path.join(viewerDir, "dist", "nmdp-view.js"))) {
+  if (!fs.existsSync(bundle)) {
     problems.push(`${viewerDir}/dist/nmdp-view.js is missing: run scripts/build.sh (or npm run build in viewer/)`);
   }
   const chromium = process.env.NMDP_CHROMIUM || "/usr/bin/chromium";
@@ -37,11 +39,8 @@ function simulate(out, ...settings) {
 }
 
 function view(out, ...runs) {
-  if (process.env.NMDP_VIEW_FIXTURE) {  // development only, until nmdp view exists
-    execFileSync("/usr/bin/python3", [path.join(viewerDir, "scripts", "fixture_page.py"), out, ...runs]);
-    return;
-  }
-  execFileSync(nmdp, ["view", ...runs, "--out", out], { stdio: ["ignore", "ignore", "pipe"] });
+  execFileSync(nmdp, ["view", ...runs, "--out", out],
+    { stdio: ["ignore", "ignore", "pipe"], env: { ...process.env, NMDP_VIEWER_BUNDLE: bundle } });
 }
 
 // The payload of a page, with base positions and times decoded.
@@ -261,12 +260,12 @@ describe("nmdp view in headless chromium", () => {
   });
 
   it("shows an error in the page and the title when the payload cannot be read", async () => {
-    const bundle = fs.readFileSync(path.join(viewerDir, "dist", "nmdp-view.js"), "utf8");
+    const script = fs.readFileSync(bundle, "utf8");
     const html = path.join(tmp, "bad.html");
     const payload = JSON.stringify({ format: "nmdp-view", version: 2, runs: [] });
     fs.writeFileSync(html, '<!doctype html><html><head><meta charset="utf-8"><title>nmdp view: loading</title></head><body>' +
       `<script type="application/json" id="nmdp-view-data">${payload}</script>` +
-      `<script>${bundle.replaceAll("</script", "<\\/script")}</script></body></html>`);
+      `<script>${script.replaceAll("</script", "<\\/script")}</script></body></html>`);
     const page = await openPage(browser.context, html);
     assert.equal(await page.title(), "nmdp view: error (payload version 2, this viewer reads version 1)");
     assert.ok(await page.isVisible("#nmdp-view-error"));
