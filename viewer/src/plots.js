@@ -82,7 +82,9 @@ export class PlotPanel {
         });
       });
     });
-    this.addPlot("normal force (N)", null, { columns: forceColumns, series: forceSeries });
+    const anyForce = forceColumns.some((c) => c.data);
+    this.addPlot(anyForce ? "normal force (N)" : "normal force (N): not in the run files", null,
+      { columns: forceColumns, series: forceSeries });
   }
 
   jointColumn(run, name) {
