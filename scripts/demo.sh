@@ -21,5 +21,5 @@ build/nmdp simulate models/scenes/quadruped_trot_sand3d.json --out demo/trot.h5
 /usr/bin/python3 scripts/plot_run.py demo/trot.h5 demo/trot.png
 echo
 echo "== nmdp view demo/trot.h5 --out demo/trot.html"
+# It prints how to open the page ("open it in a browser, e.g. chromium demo/trot.html").
 build/nmdp view demo/trot.h5 --out demo/trot.html
-echo "open the replay in a browser: file://$PWD/demo/trot.html (e.g. xdg-open demo/trot.html)"
