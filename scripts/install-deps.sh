@@ -1,9 +1,9 @@
 #!/usr/bin/env bash
 # Installs the Debian packages nmdp needs, only those missing (idempotent; quick when all are there).
-#   scripts/install-deps.sh               # everything: nmdp, its Python module and sweeps, the tests, the
-#                                         # benchmarks (scripts/test.sh)
-#   scripts/install-deps.sh --demo        # what scripts/demo.sh needs: nmdp and the plot (no GoogleTest,
-#                                         # Google Benchmark or MuJoCo)
+#   scripts/install-deps.sh               # everything: nmdp, its Python module and sweeps, the viewer, the
+#                                         # tests (chromium for the viewer's), the benchmarks (scripts/test.sh)
+#   scripts/install-deps.sh --demo        # what scripts/demo.sh needs: nmdp, the plot and node/npm for the
+#                                         # viewer page (no GoogleTest, Google Benchmark, MuJoCo or chromium)
 #   scripts/install-deps.sh --sanitizers  # clang 14 with its sanitizer and libFuzzer runtimes and
 #                                         # llvm-symbolizer (CI's sanitizer and fuzzing configuration)
 set -euo pipefail
@@ -16,19 +16,28 @@ nmdp=(
 python=(
   python3-dev python3-numpy pybind11-dev python3-pybind11 python3-distributed python3-pytest
 )
+# Node.js and npm build the viewer bundle (viewer/, esbuild) that `nmdp view` puts in its page.
+viewer=(nodejs npm)
 tests=(
   googletest libgtest-dev libbenchmark-dev
   libmujoco-dev libqhull-dev libgl-dev
+  chromium
 )
 sanitizers=(clang-14 libclang-rt-14-dev llvm-14)
 case "${1:-}" in
-  "") packages=("${nmdp[@]}" "${python[@]}" "${tests[@]}") ;;
-  --demo) packages=("${nmdp[@]}") ;;
+  "") packages=("${nmdp[@]}" "${viewer[@]}" "${python[@]}" "${tests[@]}") ;;
+  --demo) packages=("${nmdp[@]}" "${viewer[@]}") ;;
   --sanitizers) packages=("${sanitizers[@]}") ;;
   *) echo "usage: $0 [--demo | --sanitizers]" >&2; exit 2 ;;
 esac
 missing=()
 for p in "${packages[@]}"; do
+  # A node and npm from elsewhere (NodeSource's nodejs carries its own npm) count as installed: Debian's
+  # npm package would pull in Debian's nodejs beside it.
+  case "$p" in
+    nodejs) command -v node >/dev/null && continue ;;
+    npm) command -v npm >/dev/null && continue ;;
+  esac
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
 if [ ${#missing[@]} -eq 0 ]; then
