@@ -83,6 +83,7 @@ TEST_F(ViewErrors, BadInputsAreOneMessageNamingTheFileAndTheDataset) {
   expectRefused({foreign}, foreign, {"nmdp_output"});
 
   const std::string empty = copyOfRun("empty.h5");
+  EditedRun(empty).overwrite("/rows", {0.0});
   EditedRun(empty).overwrite("/steps", {0.0});
   expectRefused({empty}, empty, {"no rows"});
 
