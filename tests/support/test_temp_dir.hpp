@@ -1,5 +1,6 @@
 // Temporary folders and files for tests that write fixtures at run time.
 #pragma once
+#include <errno.h>  // program_invocation_short_name (glibc)
 #include <unistd.h>
 
 #include <atomic>
@@ -10,15 +11,12 @@
 #include <string>
 #include <system_error>
 
-// The test executable's name (tests/CMakeLists.txt defines it), used in temporary folder names.
-#ifndef NMDP_TEST_NAME
-#define NMDP_TEST_NAME "test"
-#endif
-
 namespace nmdp::test {
 
 // A fresh folder under std::filesystem::temp_directory_path() named
-// "nmdp_<test>_<pid>_<counter>_<random>", removed with everything in it at scope exit.
+// "nmdp_<test>_<pid>_<counter>_<random>", removed with everything in it at scope exit. <test> is the
+// running executable's name, read at run time so that every test target compiles with the same
+// definitions (one precompiled header serves them all).
 class TempDir {
  public:
   TempDir() {
@@ -26,8 +24,9 @@ class TempDir {
     static std::atomic<int> counter{0};
     std::random_device rd;
     for (int attempt = 0;; ++attempt) {
-      path_ = fs::temp_directory_path() / (std::string("nmdp_") + NMDP_TEST_NAME + "_" + std::to_string(::getpid()) + "_" +
-                                           std::to_string(counter++) + "_" + std::to_string(rd()));
+      path_ = fs::temp_directory_path() / (std::string("nmdp_") + program_invocation_short_name + "_" +
+                                           std::to_string(::getpid()) + "_" + std::to_string(counter++) + "_" +
+                                           std::to_string(rd()));
       if (fs::create_directory(path_)) break;
       if (attempt > 100) throw std::runtime_error("cannot create a temporary directory");
     }
