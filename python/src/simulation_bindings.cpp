@@ -12,6 +12,7 @@
 #include "contact_models/registry.hpp"
 #include "py_json.hpp"
 #include "py_simulation.hpp"
+#include "sim/trajectory_layout.hpp"
 
 namespace py = pybind11;
 using namespace pybind11::literals;
@@ -113,7 +114,7 @@ void bindStateViews(py::class_<PySimulation>& c) {
                              "Simulated time, s (a number, not a view: a variable holding it keeps its value).")
       .def_property_readonly("dt", [](const PySimulation& s) { return s.sim.dt(); }, "One step, s (integrator.dt).")
       .def_property_readonly("nq", [](const PySimulation& s) { return s.sim.model().nq; }, "Coordinates of q.")
-      .def_property_readonly("joint_names", [](const PySimulation& s) { return s.sim.model().dof_names; },
+      .def_property_readonly("joint_names", [](const PySimulation& s) { return outputCoordinateNames(s.sim.model()); },
                              "The names of q's entries, as /joint_names of the output file (base coordinates first).")
       .def_property_readonly("actuated", [](const PySimulation& s) {
         std::vector<bool> base = baseCoordinates(s.sim.model());

@@ -61,11 +61,17 @@ nlohmann::json selfContainedTerrain(const nlohmann::json& terrain) {
   return out;
 }
 
+std::vector<std::string> outputCoordinateNames(const Model& model) {
+  std::vector<std::string> names;
+  for (int j = 0; j < model.nq; ++j) names.push_back(columnName(model, j));
+  return names;
+}
+
 TrajectoryLayout trajectoryLayout(const Simulation& sim) {
   const Model& model = sim.model();
   TrajectoryLayout layout;
+  layout.joint_names = outputCoordinateNames(model);
   for (int j = 0; j < model.nq; ++j) {
-    layout.joint_names.push_back(columnName(model, j));
     layout.coordinate_units.push_back(model.bodies[static_cast<size_t>(j)].kind == JointKind::Prismatic ? "m" : "rad");
   }
   for (const ContactPoint& c : sim.system().contacts) layout.contact_names.push_back(c.name);

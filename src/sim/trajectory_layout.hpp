@@ -17,6 +17,10 @@ namespace nmdp {
 // /base/rpy angles). InputError if the URDF or a terrain file can no longer be read.
 TrajectoryLayout trajectoryLayout(const Simulation& sim);
 
+// The names of q's entries as the output's /joint_names gives them (the model's dof names, a floating
+// base's chart angles as base_chart_x/y/z).
+std::vector<std::string> outputCoordinateNames(const Model& model);
+
 // Every distinct filename="..." of the <mesh> elements of a URDF text, in the order they appear.
 std::vector<std::string> urdfMeshFiles(const std::string& urdf_text);
 

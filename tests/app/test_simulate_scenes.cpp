@@ -68,6 +68,14 @@ TEST_P(ExampleScene, OneSecondCompletes) {
   for (const auto& [name, shape] : kNumericDatasets) {
     const Dataset d = readDataset(out, name);
     ASSERT_TRUE(d.ok) << name;
+    if (name == "/contacts/features") {
+      // A patched ground reports the heaviest material's columns: NaN where that material reads
+      // less (the rigid ground has no lean angles), but never infinite, and the depth always.
+      const size_t columns = d.dims.back();
+      for (size_t i = 0; i < d.values.size(); ++i)
+        EXPECT_TRUE(i % columns == 0 ? std::isfinite(d.values[i]) : !std::isinf(d.values[i])) << name << " value " << i;
+      continue;
+    }
     EXPECT_TRUE(allFinite(d.values, d.values.size())) << name << " has a non-finite value";
   }
 }
