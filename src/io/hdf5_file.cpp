@@ -72,29 +72,12 @@ bool File::exists(const std::string& object) const {
 }
 
 Eigen::MatrixXd File::readMatrix(const std::string& dataset, std::int64_t max_values) const {
-  if (max_values < 0 || max_values > limits::kMaxArrayEntries) max_values = limits::kMaxArrayEntries;
-  if (!exists(dataset)) fail(path_, "dataset '" + dataset + "' is missing");
-  Handle d{H5Dopen2(id_, dataset.c_str(), H5P_DEFAULT), H5Dclose};
-  if (d.id < 0) fail(path_, "cannot open dataset '" + dataset + "'");
-  Handle space{H5Dget_space(d.id), H5Sclose};
-  const int rank = H5Sget_simple_extent_ndims(space.id);
+  const Array a = readArray(dataset, max_values);
+  const int rank = static_cast<int>(a.shape.size());
   if (rank < 1 || rank > 2) fail(path_, "dataset '" + dataset + "' must be 1-D or 2-D, it has rank " + std::to_string(rank));
-  Handle type{H5Dget_type(d.id), H5Tclose};
-  const H5T_class_t type_class = H5Tget_class(type.id);
-  if (type_class != H5T_FLOAT && type_class != H5T_INTEGER)
-    fail(path_, "dataset '" + dataset + "' is not numeric (expected floating-point or integer values)");
-  const hssize_t count = elementCount(space.id);
-  if (count < 0 || count > max_values)
-    fail(path_, "dataset '" + dataset + "' has " + std::to_string(count) + " values, more than the " + std::to_string(max_values) +
-                    (max_values == limits::kMaxArrayEntries ? " an array may have" : " it may hold"));
-  hsize_t dims[2] = {1, 1};
-  H5Sget_simple_extent_dims(space.id, dims, nullptr);
-  const Eigen::Index rows = static_cast<Eigen::Index>(dims[0]);
-  const Eigen::Index cols = rank == 2 ? static_cast<Eigen::Index>(dims[1]) : 1;
-  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> m(rows, cols);
-  if (rows * cols > 0 && H5Dread(d.id, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, m.data()) < 0)
-    fail(path_, "dataset '" + dataset + "' is not numeric");
-  return m;
+  const Eigen::Index rows = static_cast<Eigen::Index>(a.shape[0]);
+  const Eigen::Index cols = rank == 2 ? static_cast<Eigen::Index>(a.shape[1]) : 1;
+  return Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>>(a.values.data(), rows, cols);
 }
 
 File::Array File::readArray(const std::string& dataset, std::int64_t max_values) const {
