@@ -51,7 +51,7 @@
 // is written after the shrink, and closing the file clears the SWMR mark.
 //
 // Disk space: the file holds at most one chunk of rows beyond the steps written, about
-// chunk_rows times the bytes of a row (the sum over kColumns; about 1.3 MB for n = 18, C = 4,
+// chunk_rows times the bytes of a row (the sum over kColumns; 1.45 MB for n = 18, C = 4,
 // 13 links and chunk_rows = 512). Before each
 // growth (and before creating the file, for its first chunk) the free space of the file system and
 // the file size limit (RLIMIT_FSIZE) are checked against the chunk plus kSpaceReserve, the room the
